@@ -1,0 +1,1 @@
+"""spectrace bsdfs plugins (see the package docstring of spectrace.plugins)."""

@@ -1,0 +1,1 @@
+"""spectrace emitters plugins (see the package docstring of spectrace.plugins)."""

@@ -1,0 +1,1 @@
+"""spectrace integrators plugins (see the package docstring of spectrace.plugins)."""

@@ -1,0 +1,50 @@
+"""spectrace: the classic shading and light models as Mitsuba 3 plugins, spectral and RGB.
+
+Entry points: :func:`set_variant` (libLLVM set-up, Mitsuba variant, plugin registration)
+and :func:`render` (the pass loop of the command line).
+"""
+
+from __future__ import annotations
+
+import sys
+
+__version__ = "0.1.0"
+DEFAULT_VARIANT = "llvm_ad_spectral"
+
+__all__ = ["DEFAULT_VARIANT", "UserError", "render", "set_variant"]
+
+from spectrace.errors import UserError  # noqa: E402
+
+
+def set_variant(name: str = DEFAULT_VARIANT) -> None:
+    """Set the Mitsuba variant ``name`` and register every spectrace plugin for it.
+
+    Before mitsuba is first imported, points Dr.Jit at a libLLVM >= 16 (see
+    :mod:`spectrace.llvm`). Calling it again switches variants and re-registers the
+    plugins, since a plugin class made under one variant does not work under another.
+    Raises :class:`UserError` for an unknown variant or a missing libLLVM.
+    """
+    if "mitsuba" not in sys.modules or name.startswith("llvm"):
+        from spectrace.llvm import configure_libllvm
+
+        try:
+            configure_libllvm()
+        except UserError:
+            if name.startswith("llvm"):
+                raise
+    import mitsuba as mi
+
+    if name not in mi.variants():
+        raise UserError(f"unknown variant {name!r}; available: {', '.join(mi.variants())}")
+    if mi.variant() != name:
+        mi.set_variant(name)
+    from spectrace import plugins
+
+    plugins.register()
+
+
+def render(*args, **kwargs):
+    """Render a scene in passes; see :func:`spectrace.render.render_passes`."""
+    from spectrace.render import render_passes
+
+    return render_passes(*args, **kwargs)

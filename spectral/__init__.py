@@ -1,0 +1,1 @@
+"""Colorimetry for spectrace: SPD -> CIE XYZ -> sRGB on numpy and colour-science."""

@@ -1,0 +1,35 @@
+"""Shared fixtures: Mitsuba variants, seeded generators and the tolerances used across tests."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import spectrace
+
+VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
+
+
+@pytest.fixture(params=VARIANTS)
+def variant(request):
+    """Run the test once per LLVM variant (RGB and spectral), plugins registered."""
+    spectrace.set_variant(request.param)
+    return request.param
+
+
+@pytest.fixture
+def variant_rgb():
+    spectrace.set_variant("llvm_ad_rgb")
+    return "llvm_ad_rgb"
+
+
+@pytest.fixture
+def variant_spectral():
+    spectrace.set_variant("llvm_ad_spectral")
+    return "llvm_ad_spectral"
+
+
+@pytest.fixture
+def rng():
+    """A seeded numpy generator: every random test is reproducible."""
+    return np.random.default_rng(20261122)
