@@ -11,7 +11,7 @@ import sys
 __version__ = "0.1.0"
 DEFAULT_VARIANT = "llvm_ad_spectral"
 
-__all__ = ["DEFAULT_VARIANT", "UserError", "render", "set_variant"]
+__all__ = ["DEFAULT_VARIANT", "RenderResult", "UserError", "render", "set_variant"]
 
 from spectrace.errors import UserError  # noqa: E402
 
@@ -43,8 +43,8 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
     plugins.register()
 
 
-def render(*args, **kwargs):
-    """Render a scene in passes; see :func:`spectrace.render.render_passes`."""
-    from spectrace.render import render_passes
+# The pass loop, as ``spectrace.render(scene, spp=..., seed=..., spp_per_pass=...)``.
+# Bound after importing the submodule of the same name, so the name is the function.
+from spectrace.render import RenderResult, render_passes  # noqa: E402
 
-    return render_passes(*args, **kwargs)
+render = render_passes

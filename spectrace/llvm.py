@@ -125,3 +125,56 @@ def configure_libllvm(environ=os.environ, search_dirs=SEARCH_DIRS) -> LibLLVM:
         )
     environ[ENV_VAR] = lib.path
     return lib
+
+
+#: Debian packages tried by :func:`ensure_libllvm`, newest first.
+DEBIAN_PACKAGES = ("libllvm19", "libllvm18", "libllvm17", "libllvm16")
+
+
+def _run(cmd: list[str]) -> int:
+    import subprocess
+
+    print("+ " + " ".join(cmd), flush=True)
+    return subprocess.call(cmd)
+
+
+def ensure_libllvm(install: bool = True, search_dirs=SEARCH_DIRS, runner=_run) -> LibLLVM:
+    """Find a libLLVM >= 16; when none exists and we run as root on Debian, install one.
+
+    Raises UserError with the command to run when it cannot install one itself.
+    """
+    lib = find_libllvm(search_dirs)
+    if lib is not None:
+        return lib
+    import shutil
+
+    can_install = (install and shutil.which("apt-get") is not None
+                   and hasattr(os, "geteuid") and os.geteuid() == 0)
+    if not can_install:
+        raise UserError(f"no libLLVM >= {MIN_LLVM_MAJOR} found; install one with: "
+                        f"{install_hint()}")
+    runner(["apt-get", "update", "-qq"])
+    for package in DEBIAN_PACKAGES:
+        if runner(["apt-get", "install", "-y", "-qq", package]) == 0:
+            lib = find_libllvm(search_dirs)
+            if lib is not None:
+                return lib
+    raise UserError(f"could not install any of {', '.join(DEBIAN_PACKAGES)} with apt-get")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m spectrace.llvm [--no-install]``: make sure a libLLVM >= 16 is present."""
+    import sys
+
+    args = sys.argv[1:] if argv is None else argv
+    try:
+        lib = ensure_libllvm(install="--no-install" not in args)
+    except UserError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
+    print(f"libLLVM {lib.major}: {lib.path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,113 @@
+"""The pass loop shared by the command line and the notebooks.
+
+A render of ``spp`` samples per pixel is split into passes of at most ``spp_per_pass``
+samples (each a call of ``mi.render`` with its own seed), averaged with weights equal to
+their sample counts. Memory therefore depends on ``spp_per_pass``, not on ``spp``.
+A SIGINT (Ctrl-C) during a pass lets the pass finish and then stops the loop, so the
+image of the completed passes can still be saved.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from spectrace.errors import UserError
+
+DEFAULT_SPP_PER_PASS = 16
+_SEED_STRIDE = 0x9E3779B1  # golden-ratio stride: passes of nearby seeds never share seeds
+
+
+@dataclass
+class RenderResult:
+    """An averaged image and how it was made."""
+
+    image: np.ndarray  # (H, W, C) float32, the film's channels
+    spp: int  # samples per pixel actually rendered (less than asked if interrupted)
+    passes: int
+    seconds: float
+    interrupted: bool
+
+    @property
+    def samples_per_second(self) -> float:
+        h, w = self.image.shape[:2]
+        return h * w * self.spp / self.seconds if self.seconds > 0 else float("nan")
+
+
+def pass_seed(seed: int, index: int) -> int:
+    """The seed of pass ``index`` of a render with seed ``seed`` (distinct per pass)."""
+    return (seed * _SEED_STRIDE + index) & 0xFFFFFFFF
+
+
+def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
+    """Samples per pass: full passes of ``spp_per_pass``, then the remainder."""
+    if spp <= 0:
+        raise UserError(f"--spp must be a positive integer (got {spp})")
+    if spp_per_pass <= 0:
+        raise UserError(f"--spp-per-pass must be a positive integer (got {spp_per_pass})")
+    full, rest = divmod(spp, spp_per_pass)
+    return [spp_per_pass] * full + ([rest] if rest else [])
+
+
+class _StopOnSigint:
+    """Context manager: SIGINT sets a flag instead of raising, on the main thread only."""
+
+    def __init__(self):
+        self.requested = False
+        self._previous = None
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        self.requested = True
+
+    def __exit__(self, *exc):
+        if self._previous is not None:
+            signal.signal(signal.SIGINT, self._previous)
+        return False
+
+
+def render_passes(
+    scene,
+    spp: int,
+    seed: int = 0,
+    spp_per_pass: int = DEFAULT_SPP_PER_PASS,
+    sensor: int = 0,
+    integrator=None,
+    on_pass: Callable[[int, int], None] | None = None,
+) -> RenderResult:
+    """Render ``scene`` with ``spp`` samples per pixel in passes; see the module docstring.
+
+    ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
+    Returns the sample-weighted mean of the passes as float32 (H, W, C).
+    """
+    import mitsuba as mi
+
+    sizes = pass_sizes(spp, spp_per_pass)
+    accum = None
+    done = 0
+    start = time.perf_counter()
+    with _StopOnSigint() as stop:
+        for index, n in enumerate(sizes):
+            img = mi.render(
+                scene, spp=n, seed=pass_seed(seed, index), sensor=sensor, integrator=integrator
+            )
+            img = np.asarray(img, dtype=np.float64)
+            accum = img * n if accum is None else accum + img * n
+            done += n
+            if on_pass is not None:
+                on_pass(done, spp)
+            if stop.requested:
+                break
+        interrupted = stop.requested and done < spp
+    seconds = time.perf_counter() - start
+    image = (accum / done).astype(np.float32)
+    return RenderResult(image, done, index + 1, seconds, interrupted)

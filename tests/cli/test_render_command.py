@@ -1,0 +1,165 @@
+"""``spectrace render`` end to end: outputs, determinism, bad input, Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectrace.cli import main
+from spectrace.images import read_exr
+
+ROOT = Path(__file__).resolve().parents[2]
+SHOWCASE = ROOT / "scenes" / "showcase.xml"
+TINY = ["-D", "res=24", "--spp", "4", "--spp-per-pass", "2", "-q"]
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+
+
+def render(tmp_path, *extra, name="img.exr"):
+    out = tmp_path / name
+    code = main(["render", str(SHOWCASE), "-o", str(out), *TINY, *extra])
+    return code, out
+
+
+def assert_one_line_error(capsys, *words):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err and err[-1].startswith("error: "), err
+    assert "Traceback" not in "\n".join(err)
+    for word in words:
+        assert word in err[-1], (word, err[-1])
+
+
+def test_render_writes_exr_and_png_with_header(tmp_path):
+    """The EXR holds finite float32 R, G, B with spp/variant/seed/scene; a PNG is beside it."""
+    code, out = render(tmp_path, "--variant", "llvm_ad_rgb", "--seed", "5")
+    assert code == 0
+    rgb, header = read_exr(out)
+    assert rgb.shape == (24, 24, 3) and rgb.dtype == np.float32
+    assert np.isfinite(rgb).all() and rgb.mean() > 0
+    assert header["spp"] == 4 and header["seed"] == 5
+    assert header["variant"] == "llvm_ad_rgb" and header["scene"].endswith("showcase.xml")
+    png = out.with_suffix(".png")
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp files
+
+
+def test_render_is_deterministic_for_a_seed(tmp_path):
+    """Same seed, same pixels; another seed, other noise (spectral variant, the default)."""
+    _, a = render(tmp_path, "--seed", "1", name="a.exr")
+    _, b = render(tmp_path, "--seed", "1", name="b.exr")
+    _, c = render(tmp_path, "--seed", "2", name="c.exr")
+    np.testing.assert_array_equal(read_exr(a)[0], read_exr(b)[0])
+    assert not np.array_equal(read_exr(a)[0], read_exr(c)[0])
+
+
+def test_scene_parameters_reach_the_scene(tmp_path):
+    """-D res=24 sets the film size through the scene's <default name="res">."""
+    code, out = render(tmp_path, "-D", "res=16")
+    assert code == 0 and read_exr(out)[0].shape == (16, 16, 3)
+
+
+BAD_SCENES = {
+    "malformed": ('<scene version="3.0.0"><shape type="sphere"></scene>', "malformed XML"),
+    "unknown_plugin": ('<scene version="3.0.0"><bsdf type="nosuchbsdf"/></scene>',
+                       "nosuchbsdf"),
+    "bad_parameter": ('<scene version="3.0.0"><shape type="sphere">'
+                      '<float name="radius" value="abc"/></shape></scene>', "abc"),
+    "unused_parameter": ('<scene version="3.0.0"><shape type="sphere">'
+                         '<float name="bogus" value="1"/></shape></scene>', "bogus"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_SCENES))
+def test_bad_scene_is_a_one_line_error(tmp_path, capsys, case):
+    """Malformed XML, unknown plugins and bad parameters: exit 2, one line, no output."""
+    text, word = BAD_SCENES[case]
+    scene = tmp_path / f"{case}.xml"
+    scene.write_text(text)
+    out = tmp_path / "out.exr"
+    code = main(["render", str(scene), "-o", str(out), "-q", "--variant", "llvm_ad_rgb"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, word)
+    assert not out.exists() and not out.with_suffix(".png").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "word"),
+    [
+        (["--spp", "0"], "--spp"),
+        (["--spp", "-3"], "--spp"),
+        (["--spp-per-pass", "0"], "--spp-per-pass"),
+        (["--variant", "llvm_ad_nonsense"], "llvm_ad_nonsense"),
+        (["-D", "nosuchparam=1"], "nosuchparam"),
+        (["-D", "novalue"], "novalue"),
+        (["--film", "spectral", "--variant", "llvm_ad_rgb"], "spectral"),
+    ],
+)
+def test_bad_option_is_a_one_line_error(tmp_path, capsys, args, word):
+    """Bad options exit 2 with one line naming the option and write nothing."""
+    out = tmp_path / "out.exr"
+    code = main(["render", str(SHOWCASE), "-o", str(out), "-q", "-D", "res=8", *args])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, word)
+    assert not out.exists()
+
+
+def test_missing_scene(tmp_path, capsys):
+    """A scene path that does not exist is named in the error."""
+    code = main(["render", str(tmp_path / "nope.xml"), "-o", str(tmp_path / "o.exr")])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "nope.xml", "no such file")
+
+
+def test_unwritable_output(tmp_path, capsys):
+    """An output under a regular file (not a folder) cannot be written: exit 2, before rendering."""
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    code = main(["render", str(SHOWCASE), "-o", str(blocker / "o.exr"), "-q"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "cannot write output")
+
+
+def test_output_must_be_exr(tmp_path, capsys):
+    code = main(["render", str(SHOWCASE), "-o", str(tmp_path / "o.png"), "-q"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, ".exr")
+
+
+def run_cli(*args, **kwargs):
+    return subprocess.Popen([sys.executable, "-m", "spectrace.cli", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=kwargs.get("cwd"))
+
+
+def test_console_script_error_has_no_traceback(tmp_path):
+    """Through the real entry point: exit status 2 and a single stderr line."""
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<scene>")
+    proc = run_cli("render", str(bad), "-o", str(tmp_path / "o.exr"))
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == EXIT_USAGE
+    assert err.strip().count("\n") == 0 and err.startswith("error: ") and "bad.xml" in err
+
+
+def test_ctrl_c_saves_the_passes_done(tmp_path):
+    """SIGINT stops after the current pass, saves that image with its true spp, exits 130."""
+    out = tmp_path / "int.exr"
+    proc = run_cli("render", str(SHOWCASE), "-o", str(out), "-D", "res=16", "--spp", "100000",
+                   "--spp-per-pass", "1", "--variant", "llvm_ad_rgb", "-q")
+    line = proc.stderr.readline()  # printed just before the first pass
+    assert line.startswith("rendering"), line
+    time.sleep(1.0)
+    os.kill(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == EXIT_INTERRUPTED, err
+    rgb, header = read_exr(out)
+    assert 1 <= header["spp"] < 100000
+    assert np.isfinite(rgb).all()
+    assert f"saved {header['spp']} of 100000 spp" in err
