@@ -60,7 +60,7 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     if tree.tag != "scene":
         raise UserError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
     params = {k: str(v) for k, v in (params or {}).items()}
-    resolver = mi.Thread.thread().file_resolver()
+    resolver = mi.file_resolver()
     folder = str(path.resolve().parent)
     try:
         resolver.prepend(folder)

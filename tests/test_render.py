@@ -61,8 +61,8 @@ def test_same_seed_same_image_other_seed_other_noise(variant_rgb):
     a = render_passes(scene, spp=4, seed=7, spp_per_pass=2).image
     b = render_passes(scene, spp=4, seed=7, spp_per_pass=2).image
     c = render_passes(scene, spp=4, seed=8, spp_per_pass=2).image
-    np.testing.assert_array_equal(a, b)
-    assert not np.array_equal(a, c)
+    np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-6)  # parallel adds: rounding only
+    assert not np.allclose(a, c, rtol=0.01, atol=0.01)
 
 
 def test_public_entry_point(variant_spectral):

@@ -19,6 +19,10 @@ ROOT = Path(__file__).resolve().parents[2]
 SHOWCASE = ROOT / "scenes" / "showcase.xml"
 TINY = ["-D", "res=24", "--spp", "4", "--spp-per-pass", "2", "-q"]
 EXIT_USAGE = 2
+# The film accumulates samples with parallel atomic adds, so equal seeds agree up to the
+# order of float additions, not bit for bit.
+SAME_SEED_RTOL = 1e-5
+SAME_SEED_ATOL = 1e-6
 EXIT_INTERRUPTED = 130
 
 
@@ -55,8 +59,9 @@ def test_render_is_deterministic_for_a_seed(tmp_path):
     _, a = render(tmp_path, "--seed", "1", name="a.exr")
     _, b = render(tmp_path, "--seed", "1", name="b.exr")
     _, c = render(tmp_path, "--seed", "2", name="c.exr")
-    np.testing.assert_array_equal(read_exr(a)[0], read_exr(b)[0])
-    assert not np.array_equal(read_exr(a)[0], read_exr(c)[0])
+    np.testing.assert_allclose(read_exr(a)[0], read_exr(b)[0], rtol=SAME_SEED_RTOL,
+                               atol=SAME_SEED_ATOL)
+    assert not np.allclose(read_exr(a)[0], read_exr(c)[0], rtol=0.01, atol=0.01)
 
 
 def test_scene_parameters_reach_the_scene(tmp_path):
