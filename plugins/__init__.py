@@ -12,6 +12,14 @@ import sys
 
 #: Modules executed by :func:`register`, shared helpers before the plugins that use them.
 PLUGIN_MODULES: tuple[str, ...] = (
+    "bsdfs.lobes",
+    "bsdfs.phong",
+    "bsdfs.blinnphong",
+    "emitters.falloff",
+    "emitters.pointlight",
+    "emitters.spotlight",
+    "integrators.fog",
+    "integrators.local",
 )
 
 _registered_for: str | None = None

@@ -14,11 +14,14 @@ from pathlib import Path
 from spectrace.errors import UserError
 
 _CPP_PREFIX = re.compile(r"\[[\w./-]+\.(?:cpp|h|py):\d+\]\s*")
+# A Python plugin's exception arrives with its traceback: keep only the final message.
+_PY_TRACEBACK = re.compile(r"Traceback \(most recent call last\):.*?^\w+(?:Error|Exception): ",
+                           re.DOTALL | re.MULTILINE)
 
 
 def one_line(message: str) -> str:
     """Mitsuba's message without ``[file.cpp:123]`` prefixes, its lines joined by '; '."""
-    text = _CPP_PREFIX.sub("", str(message))
+    text = _PY_TRACEBACK.sub("", _CPP_PREFIX.sub("", str(message)))
     lines = [ln.strip(" -") for ln in text.splitlines() if ln.strip(" -")]
     return "; ".join(lines).replace(":;", ":")
 

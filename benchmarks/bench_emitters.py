@@ -1,0 +1,130 @@
+"""Benchmark: render time with spectrace's ``pointlight`` + ``spotlight`` against Mitsuba's
+built-in ``point`` + ``spot`` on the same scene.
+
+The scene: three spheres on a floor, 256x256, ``path`` integrator (max_depth 4), one point
+light and one spot light. Each configuration is rendered once to warm up (tracing and
+kernel compilation, then cached), then ``REPEATS`` times, interleaved with the other
+configurations; the table shows the median time and its ratio to the built-in lights in
+the same variant. The plugin configurations: the spot with ``linear_angle`` (the built-in's
+law) and with the default ``quadratic`` law, and both lights with a ``windowed`` distance
+law.
+
+Run: ``.venv/bin/python benchmarks/bench_emitters.py [--res 256] [--spp 16] [--repeats 5]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import spectrace
+
+VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
+
+
+def scene_dict(lights: dict, res: int, spp: int) -> dict:
+    import mitsuba as mi
+
+    T = mi.ScalarTransform4f()
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 4},
+        "sensor": {
+            "type": "perspective",
+            "fov": 40,
+            "to_world": T.look_at([0, 3, 7], [0, 0.5, 0], [0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": res, "height": res},
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+        "floor": {"type": "rectangle", "to_world": T.rotate([1, 0, 0], -90).scale(6),
+                  "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb",
+                                                                "value": [0.6, 0.6, 0.55]}}},
+    }
+    for i, (x, colour) in enumerate([(-1.3, [0.7, 0.1, 0.1]), (0.0, [0.1, 0.6, 0.1]),
+                                     (1.3, [0.1, 0.2, 0.7])]):
+        scene[f"sphere{i}"] = {"type": "sphere", "center": [x, 0.6, 0], "radius": 0.6,
+                               "bsdf": {"type": "diffuse",
+                                        "reflectance": {"type": "rgb", "value": colour}}}
+    scene.update(lights)
+    return scene
+
+
+def configurations() -> dict[str, dict]:
+    import mitsuba as mi
+
+    T = mi.ScalarTransform4f()
+    spot_world = T.look_at([2.5, 4, 2], [0, 0, 0], [0, 1, 0])
+    point = {"position": [-2, 3, 2], "intensity": 15.0}
+    return {
+        "built-in point + spot": {
+            "point": {"type": "point", **point},
+            "spot": {"type": "spot", "to_world": spot_world, "intensity": 30.0,
+                     "cutoff_angle": 30.0, "beam_width": 20.0},
+        },
+        "pointlight + spotlight (linear_angle)": {
+            "point": {"type": "pointlight", **point},
+            "spot": {"type": "spotlight", "to_world": spot_world, "intensity": 30.0,
+                     "umbra_angle": 30.0, "penumbra_angle": 20.0,
+                     "cone_falloff": "linear_angle"},
+        },
+        "pointlight + spotlight (quadratic)": {
+            "point": {"type": "pointlight", **point},
+            "spot": {"type": "spotlight", "to_world": spot_world, "intensity": 30.0,
+                     "umbra_angle": 30.0, "penumbra_angle": 20.0},
+        },
+        "... with windowed falloff (radius 10)": {
+            "point": {"type": "pointlight", **point, "falloff": "windowed", "radius": 10.0},
+            "spot": {"type": "spotlight", "to_world": spot_world, "intensity": 30.0,
+                     "umbra_angle": 30.0, "penumbra_angle": 20.0, "falloff": "windowed",
+                     "radius": 10.0},
+        },
+    }
+
+
+def timed_render(scene, spp: int, seed: int) -> float:
+    import drjit as dr
+    import mitsuba as mi
+
+    start = time.perf_counter()
+    image = mi.render(scene, spp=spp, seed=seed)
+    dr.eval(image)
+    dr.sync_thread()
+    return time.perf_counter() - start
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--res", type=int, default=256)
+    parser.add_argument("--spp", type=int, default=16)
+    parser.add_argument("--repeats", type=int, default=5)
+    args = parser.parse_args()
+
+    rows = []
+    for variant in VARIANTS:
+        spectrace.set_variant(variant)
+        import mitsuba as mi
+
+        scenes = {name: mi.load_dict(scene_dict(lights, args.res, args.spp))
+                  for name, lights in configurations().items()}
+        times: dict[str, list[float]] = {name: [] for name in scenes}
+        for name, scene in scenes.items():  # warm-up: trace and compile once
+            timed_render(scene, args.spp, seed=0)
+        for repeat in range(args.repeats):
+            for name, scene in scenes.items():
+                times[name].append(timed_render(scene, args.spp, seed=repeat + 1))
+        base = statistics.median(times["built-in point + spot"])
+        for name, values in times.items():
+            median = statistics.median(values)
+            rows.append((variant, name, median, median / base))
+
+    print(f"render {args.res}x{args.res}, {args.spp} spp, path max_depth 4, "
+          f"median of {args.repeats} after a warm-up")
+    print(f"{'variant':<18} {'lights':<40} {'time (s)':>9} {'ratio':>7}")
+    for variant, name, median, ratio in rows:
+        print(f"{variant:<18} {name:<40} {median:>9.3f} {ratio:>7.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

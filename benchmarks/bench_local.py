@@ -1,0 +1,149 @@
+"""Benchmark: the ``local`` integrator against Mitsuba's ``direct`` on showcase scenes.
+
+Scenes, 256 x 256 pixels: ``scenes/showcase.xml`` (analytic spheres on a floor, a point
+light, a spot light and a constant sky, which ``local`` samples once per pixel sample),
+and "meshes": an analytic sphere and two triangle-mesh spheres on a floor under a point
+and a spot light (delta lights only), where the three shading models are timed. Every
+integrator renders once to compile its kernel (warm-up), then once timed; the ratio is
+time / time of ``direct`` with one emitter sample per light (as many shadow rays as
+``local``), measured in the same run.
+
+    .venv/bin/python benchmarks/bench_local.py [--res 256] [--spp 16]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import spectrace
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
+
+
+def meshes(mi, res, spp):
+    T = mi.ScalarTransform4f
+    plastic = {
+        "type": "roughplastic",
+        "alpha": 0.15,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.6, 0.2, 0.1]},
+    }
+    return mi.load_dict(
+        {
+            "type": "scene",
+            "sensor": {
+                "type": "perspective",
+                "fov": 40,
+                "to_world": T().look_at(origin=[0, 3, 7], target=[0, 0.8, 0], up=[0, 1, 0]),
+                "film": {"type": "hdrfilm", "width": res, "height": res},
+                "sampler": {"type": "independent", "sample_count": spp},
+            },
+            "floor": {
+                "type": "rectangle",
+                "to_world": T().rotate([1, 0, 0], -90).scale(6),
+                "bsdf": {
+                    "type": "diffuse",
+                    "reflectance": {"type": "rgb", "value": [0.5, 0.5, 0.45]},
+                },
+            },
+            "ball": {"type": "sphere", "center": [-2.2, 1, 0], "radius": 1, "bsdf": plastic},
+            "coarse": {
+                "type": "obj",
+                "filename": str(SCENES / "meshes" / "sphere_low.obj"),
+                "to_world": T().translate([0, 1, 0]),
+                "bsdf": plastic,
+            },
+            "fine": {
+                "type": "obj",
+                "filename": str(SCENES / "meshes" / "sphere_high.obj"),
+                "to_world": T().translate([2.2, 1, 0]),
+                "bsdf": {"type": "roughconductor", "alpha": 0.2},
+            },
+            "point": {
+                "type": "point",
+                "position": [3, 5, 3],
+                "intensity": {"type": "rgb", "value": 40},
+            },
+            "spot": {
+                "type": "spot",
+                "intensity": {"type": "rgb", "value": 60},
+                "cutoff_angle": 30,
+                "to_world": T().look_at(origin=[-3, 5, 2], target=[0, 0, 0], up=[0, 1, 0]),
+            },
+        }
+    )
+
+
+def showcase(mi, res, spp):
+    return mi.load_file(str(SCENES / "showcase.xml"), res=res, spp=spp)
+
+
+#: Scene name -> (loader, number of emitters).
+BENCH_SCENES = {"showcase.xml": (showcase, 3), "meshes": (meshes, 2)}
+
+INTEGRATORS = {
+    "direct (1 emitter sample per light)": {"type": "direct", "bsdf_samples": 0},
+    "direct (default: 1 emitter + 1 BSDF)": {"type": "direct"},
+    "local phong": {"type": "local", "shading": "phong"},
+    "local flat": {"type": "local", "shading": "flat"},
+    "local gouraud": {"type": "local", "shading": "gouraud"},
+    "local phong + ambient + fog": {
+        "type": "local",
+        "ambient": 0.1,
+        "fog": "exponential",
+        "fog_density": 0.05,
+        "fog_color": 0.3,
+    },
+}
+
+
+def timed_render(mi, dr, scene, integrator, seed):
+    start = time.perf_counter()
+    image = mi.render(scene, integrator=integrator, seed=seed)
+    dr.eval(image)
+    dr.sync_thread()
+    return time.perf_counter() - start
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--res", type=int, default=256)
+    parser.add_argument("--spp", type=int, default=16)
+    args = parser.parse_args()
+
+    rows = []
+    for variant in VARIANTS:
+        spectrace.set_variant(variant)
+        import drjit as dr
+        import mitsuba as mi
+
+        mi.set_log_level(mi.LogLevel.Error)  # the gouraud fallback warning on analytic shapes
+        for scene_name, (load, n_emitters) in BENCH_SCENES.items():
+            scene = load(mi, args.res, args.spp)
+            integrators = {}
+            for name, d in INTEGRATORS.items():
+                if scene_name == "showcase.xml" and d.get("shading") in ("flat", "gouraud"):
+                    continue  # no meshes there
+                if name.startswith("direct (1 emitter"):
+                    d = dict(d, emitter_samples=n_emitters)
+                integrators[name] = mi.load_dict(d)
+            for integrator in integrators.values():  # warm-up: compile every kernel
+                timed_render(mi, dr, scene, integrator, seed=0)
+            times = {
+                name: timed_render(mi, dr, scene, integrator, seed=1)
+                for name, integrator in integrators.items()
+            }
+            reference = times[next(iter(INTEGRATORS))]
+            rows += [(variant, scene_name, name, t, t / reference) for name, t in times.items()]
+
+    print(f"local vs direct, {args.res}x{args.res}, {args.spp} spp, one timed run after warm-up")
+    print(f"{'variant':<18} {'scene':<13} {'integrator':<38} {'time [s]':>9} {'ratio':>7}")
+    for variant, scene_name, name, t, ratio in rows:
+        print(f"{variant:<18} {scene_name:<13} {name:<38} {t:>9.3f} {ratio:>7.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
