@@ -52,6 +52,9 @@ def test_render_writes_exr_and_png_with_header(tmp_path):
     png = out.with_suffix(".png")
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp files
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (out.stat().st_mode & 0o777) == 0o666 & ~umask  # not mkstemp's private 0600
 
 
 def test_render_is_deterministic_for_a_seed(tmp_path):
@@ -168,3 +171,37 @@ def test_ctrl_c_saves_the_passes_done(tmp_path):
     assert 1 <= header["spp"] < 100000
     assert np.isfinite(rgb).all()
     assert f"saved {header['spp']} of 100000 spp" in err
+
+
+# Band quantisation (16 boxes over 400-700 nm) and noise at 32 spp: mean colours of the
+# spectral-film and hdrfilm renders agree to a few percent.
+FILM_MEAN_RTOL = 0.05
+
+
+def test_spectral_film_writes_bands_and_matching_rgb(tmp_path):
+    """--film spectral: OUT.spectral.exr holds N bands; OUT.exr is their sRGB conversion
+    and agrees with the scene's own RGB film on average."""
+    from spectrace.spectral import read_spectral_exr
+    from spectrace.spectral_film import bands_to_linear_srgb
+
+    out = tmp_path / "s.exr"
+    args = ["render", str(SHOWCASE), "-D", "res=24", "--spp", "32", "-q"]
+    assert main([*args, "-o", str(out), "--film", "spectral", "--bands", "16"]) == 0
+    bands, wavelengths = read_spectral_exr(out.with_suffix(".spectral.exr"))
+    assert bands.shape == (24, 24, 16) and len(wavelengths) == 16
+    assert 400 <= wavelengths.min() < wavelengths.max() <= 700
+    rgb, header = read_exr(out)
+    assert header["film"] == "spectral" and out.with_suffix(".png").exists()
+    np.testing.assert_allclose(rgb, bands_to_linear_srgb(bands, wavelengths), rtol=1e-5,
+                               atol=1e-6)
+    assert main([*args, "-o", str(tmp_path / "r.exr")]) == 0
+    reference = read_exr(tmp_path / "r.exr")[0]
+    np.testing.assert_allclose(rgb.mean(axis=(0, 1)), reference.mean(axis=(0, 1)),
+                               rtol=FILM_MEAN_RTOL)
+
+
+def test_spectral_film_bad_bands(tmp_path, capsys):
+    code = main(["render", str(SHOWCASE), "-o", str(tmp_path / "o.exr"), "-q",
+                 "--film", "spectral", "--bands", "0"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "--bands")
