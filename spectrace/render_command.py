@@ -123,13 +123,14 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         "scene": os.path.abspath(scene_path),
         "film": args.film,
     }
-    image = result.image
+    rgb = result.image[..., :3]
     if wavelengths is not None:
         from spectrace.spectral import write_spectral_exr
-        from spectrace.spectral_film import bands_to_linear_srgb
+        from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands
 
-        write_spectral_exr(paths["spectral"], image, wavelengths)
-        image = bands_to_linear_srgb(image, wavelengths)
-    rgb = image[..., :3]
+        bands = film_to_bands(result.image, wavelengths)  # radiance per nm, band-averaged
+        rgb = bands_to_linear_srgb(bands, wavelengths)
+        write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
+                           attributes=header)
     write_exr(paths["exr"], rgb, header)
     write_png(paths["png"], rgb)

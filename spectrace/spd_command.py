@@ -1,0 +1,163 @@
+"""``spectrace spd SOURCE``: colorimetry of one spectral power distribution.
+
+SOURCE is a two-column CSV file (wavelength in nm, value) or a colour-science dataset name
+(illuminants "D65", "A", "FL2", ...; ColorChecker patches "dark skin",
+"BabelColor Average:dark skin"). Prints:
+
+* XYZ: emissive CIE XYZ (X = integral S xbar / integral ybar, same unit as the SPD values;
+  a constant SPD of 1 has Y = 1) for the chosen observer, and its chromaticity xy;
+* CCT (Ohno 2013) and Duv; CRI Ra (CIE 13.3) for light sources;
+* sRGB: the SPD's colour as encoded sRGB, scaled so that its largest linear component is 1
+  (out-of-gamut components clipped to [0, 1]), also as #rrggbb.
+
+With ``--reflectance``, the SPD is a reflectance and XYZ is taken under an illuminant
+(``--illuminant``, default D65; perfect white Y = 1) instead, without CCT/CRI.
+``--plot out.png`` draws the SPD with the area under it coloured by wavelength.
+A missing or malformed file is one ``error: ...`` line and exit status 2.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from spectrace.errors import UserError
+
+OBSERVER_CHOICES = {
+    "2": "CIE 1931 2 Degree Standard Observer",
+    "10": "CIE 1964 10 Degree Standard Observer",
+}
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument(
+        "source",
+        help="SPD file (CSV: wavelength_nm, value) or dataset name (D65, A, FL2, 'dark skin')",
+    )
+    parser.add_argument(
+        "--observer",
+        choices=sorted(OBSERVER_CHOICES),
+        default="2",
+        help="CIE 1931 2 degree (default) or CIE 1964 10 degree observer",
+    )
+    parser.add_argument(
+        "--reflectance",
+        action="store_true",
+        help="treat the SPD as a reflectance seen under --illuminant",
+    )
+    parser.add_argument(
+        "--illuminant", default="D65", help="illuminant for --reflectance (default D65)"
+    )
+    parser.add_argument("--plot", metavar="OUT.png", help="draw the SPD coloured by wavelength")
+
+
+def describe(
+    wavelengths, values, observer: str = "2", reflectance: bool = False, illuminant: str = "D65"
+) -> dict:
+    """The numbers that ``spectrace spd`` prints, as a dict (for notebooks and tests)."""
+    from spectrace import spectral as S
+
+    obs = OBSERVER_CHOICES[observer]
+    if np.max(values) <= 0:
+        raise UserError("the SPD has no positive value")
+    xyz = S.spd_to_xyz(wavelengths, values, reflectance and illuminant or None, observer=obs)
+    out = {"XYZ": xyz, "xy": xyz[:2] / xyz.sum()}
+    if not reflectance:
+        cct, duv = S.cct(wavelengths, values, return_duv=True)
+        out["CCT"], out["Duv"] = float(cct), float(duv)
+        out["CRI"] = S.cri(wavelengths, values)
+    linear = S.xyz_to_linear_srgb(xyz)
+    if not reflectance:
+        linear = linear / max(float(linear.max()), 1e-300)
+    out["sRGB"] = S.encode_srgb(np.clip(linear, 0.0, 1.0))
+    return out
+
+
+def run(args) -> int:
+    from spectrace import spectral as S
+
+    wl, values, label = S.load_spd(args.source)
+    if args.reflectance and args.illuminant not in _illuminant_names():
+        raise UserError(f"--illuminant: unknown illuminant {args.illuminant!r}")
+    try:
+        info = describe(wl, values, args.observer, args.reflectance, args.illuminant)
+    except ValueError as e:
+        raise UserError(f"{label}: {e}") from None
+    x, y, z = info["XYZ"]
+    print(f"SPD      {label}: {wl.size} samples, {wl[0]:g}-{wl[-1]:g} nm")
+    print(
+        f"XYZ      {x:.6g} {y:.6g} {z:.6g}"
+        + (f"  (reflectance under {args.illuminant}, white Y = 1)" if args.reflectance else "")
+    )
+    print(f"xy       {info['xy'][0]:.5f} {info['xy'][1]:.5f}")
+    if "CCT" in info:
+        print(f"CCT      {info['CCT']:.0f} K  (Duv {info['Duv']:+.5f})")
+        print(f"CRI Ra   {info['CRI']:.1f}")
+    rgb = info["sRGB"]
+    hexcode = "#" + "".join(f"{int(round(c * 255)):02x}" for c in rgb)
+    print(f"sRGB     {rgb[0]:.4f} {rgb[1]:.4f} {rgb[2]:.4f}  {hexcode}")
+    if args.plot:
+        plot_spd(args.plot, wl, values, label)
+        print(f"plot     {args.plot}")
+    return 0
+
+
+def _illuminant_names():
+    import colour
+
+    return set(colour.SDS_ILLUMINANTS)
+
+
+def plot_spd(path, wavelengths, values, title: str = "") -> Path:
+    """Plot the SPD; the area under it is filled with the colour of each wavelength.
+
+    The colour of wavelength l is the encoded sRGB of the CMF triple (xbar, ybar, zbar)(l),
+    normalised to its largest linear component and clipped to the gamut. Written atomically.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import colour
+    import matplotlib.pyplot as plt
+
+    from spectrace import spectral as S
+
+    cmfs = colour.MSDS_CMFS[S.CIE_1931_2]
+    grid = np.linspace(max(wavelengths[0], 360.0), min(wavelengths[-1], 830.0), 512)
+    if grid[0] >= grid[-1]:
+        grid = np.linspace(wavelengths[0], wavelengths[-1], 512)
+    cmf = np.stack(
+        [np.interp(grid, cmfs.wavelengths, cmfs.values[:, c], 0, 0) for c in range(3)], -1
+    )
+    lin = np.clip(S.xyz_to_linear_srgb(cmf), 0, None)
+    lin = lin / np.maximum(lin.max(axis=-1, keepdims=True), 1e-12)
+    strip = S.encode_srgb(np.clip(lin, 0, 1))[None]
+
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=100)
+    top = float(np.max(values)) * 1.05
+    im = ax.imshow(strip, extent=(grid[0], grid[-1], 0, top), aspect="auto", origin="lower")
+    (line,) = ax.plot(wavelengths, values, color="black", lw=1.5)
+    poly = ax.fill_between(wavelengths, 0, values, facecolor="none", edgecolor="none")
+    im.set_clip_path(poly.get_paths()[0], transform=ax.transData)
+    ax.set_xlim(wavelengths[0], wavelengths[-1])
+    ax.set_ylim(min(0.0, float(np.min(values))), top)
+    ax.set_xlabel("wavelength (nm)")
+    ax.set_ylabel("value")
+    ax.set_title(title)
+    fig.tight_layout()
+    path = Path(path)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".png", dir=path.parent or ".")
+    except OSError as e:
+        raise UserError(f"{path}: cannot write ({e.strerror})") from None
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format="png")
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        Path(tmp).unlink(missing_ok=True)
+    return path
