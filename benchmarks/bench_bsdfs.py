@@ -15,13 +15,12 @@ Run: .venv/bin/python benchmarks/bench_bsdfs.py [--spp N] [--res N] [--repeats N
 
 from __future__ import annotations
 
-import argparse
 import sys
-import time
+
+from _timing import VARIANTS, interleaved, print_table, render_parser, timed_render
 
 import spectrace
 
-VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
 COLOURS = ([0.7, 0.2, 0.15], [0.2, 0.6, 0.25], [0.2, 0.3, 0.7], [0.5, 0.5, 0.5])
 
 
@@ -69,23 +68,8 @@ def scene_dict(kind: str, res: int, spp: int):
     return scene
 
 
-def timed_render(scene, spp):
-    import drjit as dr
-    import mitsuba as mi
-
-    start = time.perf_counter()
-    image = mi.render(scene, spp=spp, seed=0)
-    dr.eval(image)
-    dr.sync_thread()
-    return time.perf_counter() - start
-
-
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spp", type=int, default=16)
-    parser.add_argument("--res", type=int, default=256)
-    parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args(argv)
+    args = render_parser(__doc__, repeats=5).parse_args(argv)
 
     rows = []
     for variant in VARIANTS:
@@ -93,12 +77,10 @@ def main(argv=None) -> int:
         import mitsuba as mi
 
         scenes = {kind: mi.load_dict(scene_dict(kind, args.res, args.spp)) for kind in KINDS}
-        first = {kind: timed_render(scenes[kind], args.spp) for kind in KINDS}
-        warm = {kind: float("inf") for kind in KINDS}
-        for _ in range(args.repeats):  # interleaved, so that load changes hit all alike
-            for kind in KINDS:
-                warm[kind] = min(warm[kind], timed_render(scenes[kind], args.spp))
-        times = {kind: (first[kind], warm[kind]) for kind in KINDS}
+        first = {kind: timed_render(scenes[kind], spp=args.spp, seed=0) for kind in KINDS}
+        warm = interleaved(scenes, lambda scene, _: timed_render(scene, spp=args.spp, seed=0),
+                           args.repeats)
+        times = {kind: (first[kind], min(warm[kind], default=float("inf"))) for kind in KINDS}
         base = times["diffuse"][1]
         for kind in KINDS:
             first, warm = times[kind]
@@ -106,10 +88,9 @@ def main(argv=None) -> int:
 
     print(f"render {args.res}x{args.res}, {args.spp} spp, path max_depth 6, "
           f"best of {args.repeats} warm renders")
-    head = ("variant", "bsdf", "first render s", "warm render s", "/ diffuse", "/ roughplastic")
-    print("  ".join(f"{h:>16}" for h in head))
-    for variant, kind, first, warm, r1, r2 in rows:
-        print(f"{variant:>16}  {kind:>16}  {first:16.3f}  {warm:16.3f}  {r1:16.2f}  {r2:16.2f}")
+    print_table([("variant", ">16", ""), ("bsdf", ">16", ""), ("first render s", ">16", ".3f"),
+                 ("warm render s", ">16", ".3f"), ("/ diffuse", ">16", ".2f"),
+                 ("/ roughplastic", ">16", ".2f")], rows, sep="  ")
     return 0
 
 

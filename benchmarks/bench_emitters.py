@@ -14,13 +14,11 @@ Run: ``.venv/bin/python benchmarks/bench_emitters.py [--res 256] [--spp 16] [--r
 
 from __future__ import annotations
 
-import argparse
 import statistics
-import time
+
+from _timing import VARIANTS, interleaved, print_table, render_parser, timed_render
 
 import spectrace
-
-VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
 
 
 def scene_dict(lights: dict, res: int, spp: int) -> dict:
@@ -82,23 +80,8 @@ def configurations() -> dict[str, dict]:
     }
 
 
-def timed_render(scene, spp: int, seed: int) -> float:
-    import drjit as dr
-    import mitsuba as mi
-
-    start = time.perf_counter()
-    image = mi.render(scene, spp=spp, seed=seed)
-    dr.eval(image)
-    dr.sync_thread()
-    return time.perf_counter() - start
-
-
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--res", type=int, default=256)
-    parser.add_argument("--spp", type=int, default=16)
-    parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args()
+    args = render_parser(__doc__, repeats=5).parse_args()
 
     rows = []
     for variant in VARIANTS:
@@ -107,12 +90,12 @@ def main() -> int:
 
         scenes = {name: mi.load_dict(scene_dict(lights, args.res, args.spp))
                   for name, lights in configurations().items()}
-        times: dict[str, list[float]] = {name: [] for name in scenes}
-        for name, scene in scenes.items():  # warm-up: trace and compile once
-            timed_render(scene, args.spp, seed=0)
-        for repeat in range(args.repeats):
-            for name, scene in scenes.items():
-                times[name].append(timed_render(scene, args.spp, seed=repeat + 1))
+        for scene in scenes.values():  # warm-up: trace and compile once
+            timed_render(scene, spp=args.spp, seed=0)
+        times = interleaved(
+            scenes, lambda scene, repeat: timed_render(scene, spp=args.spp, seed=repeat + 1),
+            args.repeats,
+        )
         base = statistics.median(times["built-in point + spot"])
         for name, values in times.items():
             median = statistics.median(values)
@@ -120,9 +103,8 @@ def main() -> int:
 
     print(f"render {args.res}x{args.res}, {args.spp} spp, path max_depth 4, "
           f"median of {args.repeats} after a warm-up")
-    print(f"{'variant':<18} {'lights':<40} {'time (s)':>9} {'ratio':>7}")
-    for variant, name, median, ratio in rows:
-        print(f"{variant:<18} {name:<40} {median:>9.3f} {ratio:>7.3f}")
+    print_table([("variant", "<18", ""), ("lights", "<40", ""), ("time (s)", ">9", ".3f"),
+                 ("ratio", ">7", ".3f")], rows)
     return 0
 
 

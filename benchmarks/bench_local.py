@@ -13,14 +13,13 @@ time / time of ``direct`` with one emitter sample per light (as many shadow rays
 
 from __future__ import annotations
 
-import argparse
-import time
 from pathlib import Path
+
+from _timing import VARIANTS, print_table, render_parser, timed_render
 
 import spectrace
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
-VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
 
 
 def meshes(mi, res, spp):
@@ -99,24 +98,12 @@ INTEGRATORS = {
 }
 
 
-def timed_render(mi, dr, scene, integrator, seed):
-    start = time.perf_counter()
-    image = mi.render(scene, integrator=integrator, seed=seed)
-    dr.eval(image)
-    dr.sync_thread()
-    return time.perf_counter() - start
-
-
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--res", type=int, default=256)
-    parser.add_argument("--spp", type=int, default=16)
-    args = parser.parse_args()
+    args = render_parser(__doc__).parse_args()
 
     rows = []
     for variant in VARIANTS:
         spectrace.set_variant(variant)
-        import drjit as dr
         import mitsuba as mi
 
         mi.set_log_level(mi.LogLevel.Error)  # the gouraud fallback warning on analytic shapes
@@ -130,18 +117,17 @@ def main() -> int:
                     d = dict(d, emitter_samples=n_emitters)
                 integrators[name] = mi.load_dict(d)
             for integrator in integrators.values():  # warm-up: compile every kernel
-                timed_render(mi, dr, scene, integrator, seed=0)
+                timed_render(scene, integrator=integrator, seed=0)
             times = {
-                name: timed_render(mi, dr, scene, integrator, seed=1)
+                name: timed_render(scene, integrator=integrator, seed=1)
                 for name, integrator in integrators.items()
             }
             reference = times[next(iter(INTEGRATORS))]
             rows += [(variant, scene_name, name, t, t / reference) for name, t in times.items()]
 
     print(f"local vs direct, {args.res}x{args.res}, {args.spp} spp, one timed run after warm-up")
-    print(f"{'variant':<18} {'scene':<13} {'integrator':<38} {'time [s]':>9} {'ratio':>7}")
-    for variant, scene_name, name, t, ratio in rows:
-        print(f"{variant:<18} {scene_name:<13} {name:<38} {t:>9.3f} {ratio:>7.2f}")
+    print_table([("variant", "<18", ""), ("scene", "<13", ""), ("integrator", "<38", ""),
+                 ("time [s]", ">9", ".3f"), ("ratio", ">7", ".2f")], rows)
     return 0
 
 

@@ -55,12 +55,12 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
-from spectrace.plugins.emitters import falloff
+from spectrace.plugins.emitters import delta, falloff
 
 PLUGIN = "pointlight"
 
 
-class PointLight(mi.Emitter):
+class PointLight(delta.DeltaLight):
     """Isotropic point light: intensity (W/sr) times a distance falloff law."""
 
     def __init__(self, props):
@@ -88,11 +88,7 @@ class PointLight(mi.Emitter):
 
     def traverse(self, callback):
         callback.put("position", self.position, mi.ParamFlags.NonDifferentiable)
-        callback.put(
-            "power" if self.from_power else "intensity",
-            self.intensity,
-            mi.ParamFlags.Differentiable,
-        )
+        callback.put(self.emission_name, self.intensity, mi.ParamFlags.Differentiable)
 
     def parameters_changed(self, keys):
         # Update in place: mi.traverse holds references to the traversed arrays.
@@ -101,10 +97,7 @@ class PointLight(mi.Emitter):
     # -- helpers ------------------------------------------------------------------------
 
     def _intensity(self, wavelengths, active):
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = wavelengths
-        value = self.intensity.eval(si, active)
-        return value if self.scale is None else value * self.scale
+        return self._scaled(self.intensity.eval(self._spectral_si(wavelengths), active))
 
     # -- sampling and evaluation --------------------------------------------------------
 
@@ -118,57 +111,20 @@ class PointLight(mi.Emitter):
         return ray, weight * falloff.FOUR_PI
 
     def sample_direction(self, it, sample, active=True):
-        ds = dr.zeros(mi.DirectionSample3f)
-        ds.p = mi.Point3f(self.position)
-        ds.time = it.time
-        ds.pdf = 1.0
-        ds.delta = True
-        ds.emitter = mi.EmitterPtr(self)
-        d = mi.Vector3f(ds.p - it.p)
-        dist2 = dr.squared_norm(d)
-        ds.dist = dr.sqrt(dist2)
-        ds.d = d * dr.rsqrt(dist2)
+        ds, dist2 = self._direction_sample(it)
         return ds, self._intensity(it.wavelengths, active) * self.law(dist2)
-
-    def pdf_direction(self, it, ds, active=True):
-        return mi.Float(0.0)
 
     def eval_direction(self, it, ds, active=True):
         dist2 = dr.squared_norm(ds.p - it.p)
         return self._intensity(it.wavelengths, active) * self.law(dist2)
 
     def sample_position(self, time, sample, active=True):
-        ps = dr.zeros(mi.PositionSample3f)
-        ps.p = mi.Point3f(self.position)
-        ps.time = time
-        ps.delta = True
-        return ps, mi.Float(1.0)
-
-    def pdf_position(self, ps, active=True):
-        return mi.Float(0.0)
-
-    def sample_wavelengths(self, si, sample, active=True):
-        wavelengths, weight = self.intensity.sample_spectrum(
-            si, falloff.shifted_wavelength_samples(sample), active
-        )
-        return wavelengths, weight if self.scale is None else weight * self.scale
-
-    def pdf_wavelengths(self, wavelengths, active=True):
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = wavelengths
-        return self.intensity.pdf_spectrum(si, active)
-
-    def eval(self, si, active=True):
-        return dr.zeros(mi.Spectrum)
-
-    def bbox(self):
-        p = mi.ScalarPoint3f(dr.slice(self.position, 0))
-        return mi.ScalarBoundingBox3f(p, p)
+        return self._position_sample(time), mi.Float(1.0)
 
     def to_string(self):
         return (
             f"PointLight[position={self.position}, "
-            f"{'power' if self.from_power else 'intensity'}={self.intensity}, "
+            f"{self.emission_name}={self.intensity}, "
             f"falloff={self.law!r}]"
         )
 

@@ -81,7 +81,7 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
-from spectrace.plugins.emitters import falloff
+from spectrace.plugins.emitters import delta, falloff
 
 PLUGIN = "spotlight"
 #: Smallest cos(penumbra) - cos(umbra) and umbra - penumbra (rad) used as a divisor: a
@@ -142,7 +142,7 @@ CONE_FALLOFFS = {
 }
 
 
-class SpotLight(mi.Emitter):
+class SpotLight(delta.DeltaLight):
     """Spot light: on-axis intensity times a cone profile, a gobo and a distance law."""
 
     def __init__(self, props):
@@ -198,11 +198,7 @@ class SpotLight(mi.Emitter):
             dr.make_opaque(self.scale)
 
     def traverse(self, callback):
-        callback.put(
-            "power" if self.from_power else "intensity",
-            self.intensity,
-            mi.ParamFlags.Differentiable,
-        )
+        callback.put(self.emission_name, self.intensity, mi.ParamFlags.Differentiable)
         if self.texture is not None:
             callback.put("texture", self.texture, mi.ParamFlags.Differentiable)
         callback.put("umbra_angle", self.umbra_angle, mi.ParamFlags.Differentiable)
@@ -227,8 +223,7 @@ class SpotLight(mi.Emitter):
     def _emitted(self, local_d, wavelengths, time, active):
         """I(alpha) in the local direction ``local_d`` (not normalized)."""
         cone = self.cone.profile(self, local_d.z * dr.rsqrt(dr.squared_norm(local_d)))
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = wavelengths
+        si = self._spectral_si(wavelengths)
         value = self.intensity.eval(si, active)
         if self.texture is not None:
             si.time = time
@@ -254,21 +249,9 @@ class SpotLight(mi.Emitter):
         return ray, weight * (cone / pdf)
 
     def sample_direction(self, it, sample, active=True):
-        ds = dr.zeros(mi.DirectionSample3f)
-        ds.p = mi.Point3f(self.position)
-        ds.time = it.time
-        ds.pdf = 1.0
-        ds.delta = True
-        ds.emitter = mi.EmitterPtr(self)
-        d = mi.Vector3f(ds.p - it.p)
-        dist2 = dr.squared_norm(d)
-        ds.dist = dr.sqrt(dist2)
-        ds.d = d * dr.rsqrt(dist2)
+        ds, dist2 = self._direction_sample(it)
         local_d = self.to_local @ (-ds.d)
         return ds, self._emitted(local_d, it.wavelengths, it.time, active) * self.law(dist2)
-
-    def pdf_direction(self, it, ds, active=True):
-        return mi.Float(0.0)
 
     def eval_direction(self, it, ds, active=True):
         d = mi.Vector3f(it.p - ds.p)  # (Point3f - Point3f is a Point3f in Mitsuba's Python)
@@ -277,45 +260,26 @@ class SpotLight(mi.Emitter):
         return value * self.law(dr.squared_norm(d))
 
     def sample_position(self, time, sample, active=True):
-        ps = dr.zeros(mi.PositionSample3f)
-        ps.p = mi.Point3f(self.position)
+        ps = self._position_sample(time)
         ps.n = self.to_world @ mi.Vector3f(0.0, 0.0, 1.0)
         ps.uv = mi.Point2f(0.5)
-        ps.time = time
         ps.pdf = 1.0
-        ps.delta = True
         return ps, mi.Float(1.0)
 
-    def pdf_position(self, ps, active=True):
-        return mi.Float(0.0)
-
-    def sample_wavelengths(self, si, sample, active=True):
-        samples = falloff.shifted_wavelength_samples(sample)
-        if self.texture is not None:
-            wavelengths, weight = self.texture.sample_spectrum(si, samples, active)
-            si = mi.SurfaceInteraction3f(si)
-            si.wavelengths = wavelengths
-            weight = weight * self.intensity.eval(si, active)
-        else:
-            wavelengths, weight = self.intensity.sample_spectrum(si, samples, active)
-        return wavelengths, weight if self.scale is None else weight * self.scale
-
-    def pdf_wavelengths(self, wavelengths, active=True):
-        si = dr.zeros(mi.SurfaceInteraction3f)
+    def _sample_spectrum(self, si, samples, active):
+        """With a gobo, wavelengths follow the texture (as the built-in ``spot``), weighted
+        by the intensity at them."""
+        if self.texture is None:
+            return super()._sample_spectrum(si, samples, active)
+        wavelengths, weight = self.texture.sample_spectrum(si, samples, active)
+        si = mi.SurfaceInteraction3f(si)
         si.wavelengths = wavelengths
-        return self.intensity.pdf_spectrum(si, active)
-
-    def eval(self, si, active=True):
-        return dr.zeros(mi.Spectrum)
-
-    def bbox(self):
-        p = mi.ScalarPoint3f(dr.slice(self.position, 0))
-        return mi.ScalarBoundingBox3f(p, p)
+        return wavelengths, weight * self.intensity.eval(si, active)
 
     def to_string(self):
         return (
             f"SpotLight[to_world={self.to_world}, "
-            f"{'power' if self.from_power else 'intensity'}={self.intensity}, "
+            f"{self.emission_name}={self.intensity}, "
             f"umbra_angle={self.umbra_angle}, penumbra_angle={self.penumbra_angle}, "
             f"cone_falloff={self.cone_name}, falloff={self.law!r}, texture={self.texture}]"
         )
