@@ -72,7 +72,7 @@ class FurnaceResult:
 def load_bsdf(spec):
     """A BSDF from a Mitsuba dict, an XML string or an XML file (active variant).
 
-    Raises :class:`UserError` with the last line of Mitsuba's message on failure.
+    Raises :class:`UserError` with Mitsuba's message on one line on failure.
     """
     import mitsuba as mi
 
@@ -89,11 +89,9 @@ def load_bsdf(spec):
     except UserError:
         raise
     except Exception as e:
-        lines = [ln.strip() for ln in str(e).splitlines() if ln.strip()]
-        message = lines[-1] if lines else repr(e)
-        for prefix in ("ValueError: ", "RuntimeError: "):
-            message = message.removeprefix(prefix)
-        raise UserError(message) from None
+        from spectrace.scene import one_line
+
+        raise UserError(one_line(e) or repr(e)) from None
     if not isinstance(bsdf, mi.BSDF):
         raise UserError(f"{spec!r} does not describe a BSDF (got {type(bsdf).__name__})")
     return bsdf
