@@ -100,13 +100,15 @@ def _scene_spp(scene) -> int:
 
 
 def _render_with_progress(scene, spp, args):
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn,
+                               TimeRemainingColumn)
 
     from spectrace.render import render_passes
 
     quiet = args.quiet or not sys.stderr.isatty()
     with Progress("[progress.description]{task.description}", BarColumn(),
-                  MofNCompleteColumn(), TimeElapsedColumn(), disable=quiet,
+                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                  disable=quiet,
                   transient=True) as progress:
         task = progress.add_task("spp", total=spp)
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
