@@ -37,7 +37,11 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
     if name not in mi.variants():
         raise UserError(f"unknown variant {name!r}; available: {', '.join(mi.variants())}")
     if mi.variant() != name:
-        mi.set_variant(name)
+        try:
+            mi.set_variant(name)
+        except (ImportError, RuntimeError) as e:  # e.g. a CUDA variant without a GPU
+            first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            raise UserError(f"variant {name!r} cannot run on this machine: {first}") from None
     from spectrace import plugins
 
     plugins.register()

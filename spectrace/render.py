@@ -32,6 +32,7 @@ class RenderResult:
     passes: int
     seconds: float
     interrupted: bool
+    nonfinite: int = 0  # pixel values that were NaN or infinite, set to 0 in ``image``
 
     @property
     def samples_per_second(self) -> float:
@@ -87,7 +88,8 @@ def render_passes(
     """Render ``scene`` with ``spp`` samples per pixel in passes; see the module docstring.
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
-    Returns the sample-weighted mean of the passes as float32 (H, W, C).
+    Returns the sample-weighted mean of the passes as float32 (H, W, C); NaN or infinite
+    values (a plugin's bug) are set to 0 and counted in ``RenderResult.nonfinite``.
     """
     import mitsuba as mi
 
@@ -110,4 +112,8 @@ def render_passes(
         interrupted = stop.requested and done < spp
     seconds = time.perf_counter() - start
     image = (accum / done).astype(np.float32)
-    return RenderResult(image, done, index + 1, seconds, interrupted)
+    bad = ~np.isfinite(image)
+    nonfinite = int(bad.sum())
+    if nonfinite:  # never a NaN in an image: zero them and report the count
+        image[bad] = 0.0
+    return RenderResult(image, done, index + 1, seconds, interrupted, nonfinite)

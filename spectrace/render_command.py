@@ -60,8 +60,6 @@ def run(args) -> int:
         if "spectral" not in args.variant:
             raise UserError(f"--film spectral needs a spectral variant (got {args.variant})")
     paths = output_paths(scene_path, args.output, args.film)
-    for p in paths.values():
-        check_writable(p)
 
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
@@ -78,6 +76,8 @@ def run(args) -> int:
         scene = load_scene(scene_path, params, root=root)
     else:
         scene = load_scene(scene_path, params)
+    for p in paths.values():  # before rendering: a bad output path costs no render time
+        check_writable(p)
     spp = args.spp or _scene_spp(scene)
     print(f"rendering {scene_path.name}: {spp} spp, {args.variant}, seed {args.seed}",
           file=sys.stderr, flush=True)
@@ -85,6 +85,9 @@ def run(args) -> int:
     if result.spp == 0:
         print("interrupted before the first pass finished: nothing written", file=sys.stderr)
         return 130
+    if result.nonfinite:
+        print(f"warning: {result.nonfinite} pixel values were NaN or infinite and were set to 0",
+              file=sys.stderr)
     _write_outputs(result, paths, wavelengths, args, scene_path)
     rate = result.samples_per_second
     print(f"{scene_path.name}: {result.spp} spp in {result.passes} passes, "

@@ -51,7 +51,9 @@ def read_scene_xml(path: str | Path) -> ET.Element:
 
 
 def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None):
-    """Load a Mitsuba scene from ``path`` with XML parameters ``params`` (``$name``).
+    """Load a Mitsuba scene to render from ``path`` with XML parameters ``params`` (``$name``).
+
+    The scene must have a sensor and an integrator (UserError otherwise).
 
     ``root``, when given, is a (possibly modified) parsed tree of that file: it is loaded
     instead of the file, with relative asset paths still resolved against the file's folder.
@@ -68,13 +70,19 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     try:
         resolver.prepend(folder)
         if root is None:
-            return mi.load_file(str(path), **params)
-        return mi.load_string(ET.tostring(tree, encoding="unicode"), **params)
+            scene = mi.load_file(str(path), **params)
+        else:
+            scene = mi.load_string(ET.tostring(tree, encoding="unicode"), **params)
     except (RuntimeError, ValueError, TypeError) as e:
         msg = one_line(e)
         raise UserError(msg if str(path) in msg else f"scene {path}: {msg}") from None
     finally:
         _remove_path(resolver, folder)
+    if not scene.sensors():
+        raise UserError(f"scene {path}: no <sensor> to render from")
+    if scene.integrator() is None:
+        raise UserError(f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
+    return scene
 
 
 def _remove_path(resolver, folder: str) -> None:

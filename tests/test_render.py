@@ -70,3 +70,23 @@ def test_public_entry_point(variant_spectral):
     result = spectrace.render(small_scene(), spp=2, seed=1)
     assert np.isfinite(result.image).all() and result.spp == 2
     assert result.samples_per_second > 0
+
+
+def test_nan_never_reaches_the_image(variant_rgb):
+    """A BSDF that returns NaN (a scaled texture of NaN) leaves zeros, counted, not NaN."""
+    import mitsuba as mi
+
+    scene = mi.load_dict({
+        "type": "scene",
+        "integrator": {"type": "direct"},
+        "sphere": {"type": "sphere", "bsdf": {"type": "diffuse",
+                                              "reflectance": {"type": "rgb",
+                                                              "value": [float("nan")] * 3}}},
+        "light": {"type": "point", "position": [0, 0, 4]},
+        "camera": {"type": "perspective", "fov": 45,
+                   "to_world": mi.ScalarTransform4f().look_at([0, 0, 4], [0, 0, 0], [0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 8, "height": 8}},
+    })
+    result = render_passes(scene, spp=2)
+    assert np.isfinite(result.image).all()
+    assert result.nonfinite > 0

@@ -81,6 +81,10 @@ BAD_SCENES = {
                       '<float name="radius" value="abc"/></shape></scene>', "abc"),
     "unused_parameter": ('<scene version="3.0.0"><shape type="sphere">'
                          '<float name="bogus" value="1"/></shape></scene>', "bogus"),
+    "no_sensor": ('<scene version="3.0.0"><integrator type="path"/><shape type="sphere"/>'
+                  '</scene>', "no <sensor>"),
+    "no_integrator": ('<scene version="3.0.0"><shape type="sphere"/><sensor type="perspective">'
+                      '</sensor></scene>', "no <integrator>"),
 }
 
 
@@ -106,6 +110,7 @@ def test_bad_scene_is_a_one_line_error(tmp_path, capsys, case):
         (["--variant", "llvm_ad_nonsense"], "llvm_ad_nonsense"),
         (["-D", "nosuchparam=1"], "nosuchparam"),
         (["-D", "novalue"], "novalue"),
+        (["-D", "res=abc"], "abc"),
         (["--film", "spectral", "--variant", "llvm_ad_rgb"], "spectral"),
     ],
 )
@@ -116,6 +121,20 @@ def test_bad_option_is_a_one_line_error(tmp_path, capsys, args, word):
     assert code == EXIT_USAGE
     assert_one_line_error(capsys, word)
     assert not out.exists()
+
+
+def test_unusable_variant_is_an_error_not_a_traceback(tmp_path, capsys):
+    """A CUDA variant renders where a GPU exists; elsewhere it is a one-line error, exit 2,
+    and not even the output folder is made."""
+    out = tmp_path / "new" / "o.exr"
+    code = main(["render", str(SHOWCASE), "-o", str(out), "-q", "-D", "res=8", "--spp", "1",
+                 "--variant", "cuda_ad_rgb"])
+    if code == 0:
+        assert out.exists()
+    else:
+        assert code == EXIT_USAGE
+        assert_one_line_error(capsys, "cuda_ad_rgb")
+        assert not out.parent.exists()
 
 
 def test_missing_scene(tmp_path, capsys):
