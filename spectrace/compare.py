@@ -72,15 +72,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _render_scene(path: Path, variant: str, args) -> np.ndarray:
     import spectrace
+    from spectrace.render import scene_spp
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
     read_scene_xml(path)
     spectrace.set_variant(variant)
     scene = load_scene(path, parse_defines(args.defines))
-    spp = args.spp or int(scene.sensors()[0].sampler().sample_count())
-    if spp <= 0:
-        raise UserError(f"--spp must be a positive integer (got {spp})")
-    return spectrace.render(scene, spp=spp, seed=args.seed).image[..., :3]
+    result = spectrace.render(scene, spp=args.spp or scene_spp(scene), seed=args.seed)
+    return result.image[..., :3]
 
 
 def _load(path: str, variant: str, args) -> np.ndarray:
@@ -136,7 +135,9 @@ def write_figure(path, comparison: Comparison, label_a: str, label_b: str) -> No
 
 def run(args) -> int:
     from spectrace.images import check_writable
+    from spectrace.render import DEFAULT_SPP_PER_PASS, check_sample_counts
 
+    check_sample_counts(args.spp, DEFAULT_SPP_PER_PASS)
     out = Path(args.output)
     if out.suffix.lower() != ".png":
         raise UserError(f"output {out}: must end in .png")

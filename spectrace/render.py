@@ -45,12 +45,22 @@ def pass_seed(seed: int, index: int) -> int:
     return (seed * _SEED_STRIDE + index) & 0xFFFFFFFF
 
 
-def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
-    """Samples per pass: full passes of ``spp_per_pass``, then the remainder."""
-    if spp <= 0:
+def check_sample_counts(spp: int | None, spp_per_pass: int) -> None:
+    """UserError unless ``spp`` (None: the scene's own) and ``spp_per_pass`` are positive."""
+    if spp is not None and spp <= 0:
         raise UserError(f"--spp must be a positive integer (got {spp})")
     if spp_per_pass <= 0:
         raise UserError(f"--spp-per-pass must be a positive integer (got {spp_per_pass})")
+
+
+def scene_spp(scene, sensor: int = 0) -> int:
+    """The samples per pixel the scene's sensor asks for (its sampler's sample_count)."""
+    return int(scene.sensors()[sensor].sampler().sample_count())
+
+
+def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
+    """Samples per pass: full passes of ``spp_per_pass``, then the remainder."""
+    check_sample_counts(spp, spp_per_pass)
     full, rest = divmod(spp, spp_per_pass)
     return [spp_per_pass] * full + ([rest] if rest else [])
 

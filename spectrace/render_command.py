@@ -9,7 +9,7 @@ from pathlib import Path
 
 from spectrace import DEFAULT_VARIANT
 from spectrace.errors import UserError
-from spectrace.render import DEFAULT_SPP_PER_PASS
+from spectrace.render import DEFAULT_SPP_PER_PASS, check_sample_counts, scene_spp
 
 FILMS = ("rgb", "spectral")
 DEFAULT_BANDS = 16
@@ -50,10 +50,7 @@ def run(args) -> int:
     from spectrace.images import check_writable
 
     scene_path = Path(args.scene)
-    if args.spp is not None and args.spp <= 0:
-        raise UserError(f"--spp must be a positive integer (got {args.spp})")
-    if args.spp_per_pass <= 0:
-        raise UserError(f"--spp-per-pass must be a positive integer (got {args.spp_per_pass})")
+    check_sample_counts(args.spp, args.spp_per_pass)  # before loading anything
     if args.film == "spectral":
         if args.bands < 1:
             raise UserError(f"--bands must be a positive integer (got {args.bands})")
@@ -78,7 +75,7 @@ def run(args) -> int:
         scene = load_scene(scene_path, params)
     for p in paths.values():  # before rendering: a bad output path costs no render time
         check_writable(p)
-    spp = args.spp or _scene_spp(scene)
+    spp = args.spp or scene_spp(scene)
     print(f"rendering {scene_path.name}: {spp} spp, {args.variant}, seed {args.seed}",
           file=sys.stderr, flush=True)
     result = _render_with_progress(scene, spp, args)
@@ -96,10 +93,6 @@ def run(args) -> int:
         print(f"interrupted: saved {result.spp} of {spp} spp", file=sys.stderr)
         return 130
     return 0
-
-
-def _scene_spp(scene) -> int:
-    return int(scene.sensors()[0].sampler().sample_count())
 
 
 def _render_with_progress(scene, spp, args):

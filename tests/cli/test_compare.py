@@ -72,6 +72,14 @@ def test_cli_one_scene_two_variants(tmp_path, capsys):
     assert 0 < mean < 10
 
 
+def test_bad_spp(tmp_path, capsys):
+    """--spp 0 is refused, not silently replaced by the scene's own count."""
+    code = main(["compare", str(SHOWCASE), "--variants", "llvm_ad_rgb,llvm_ad_spectral",
+                 "--spp", "0", "-o", str(tmp_path / "v.png")])
+    assert code == EXIT_USAGE
+    assert capsys.readouterr().err.startswith("error: --spp")
+
+
 def test_mismatched_sizes(tmp_path, capsys):
     write_exr(tmp_path / "a.exr", np.zeros((4, 4, 3)))
     write_exr(tmp_path / "b.exr", np.zeros((4, 5, 3)))
