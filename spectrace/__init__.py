@@ -49,6 +49,6 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
 
 # The pass loop, as ``spectrace.render(scene, spp=..., seed=..., spp_per_pass=...)``.
 # Bound after importing the submodule of the same name, so the name is the function.
-from spectrace.render import RenderResult, render_passes  # noqa: E402
+from spectrace.passes import RenderResult, render_passes  # noqa: E402
 
 render = render_passes

@@ -16,11 +16,11 @@ from spectrace.errors import UserError
 
 #: subcommand -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
-    "render": ("spectrace.render_command", "render a Mitsuba XML scene in passes"),
-    "doctor": ("spectrace.doctor", "report variants, libLLVM and whether the backend works"),
-    "compare": ("spectrace.compare", "CIEDE2000 between two images, scenes or variants"),
-    "furnace": ("spectrace.furnace", "white furnace: directional albedo of a BSDF vs incident angle"),
-    "spd": ("spectrace.spd_command", "XYZ, xy, CCT, CRI and sRGB colour of an SPD file or dataset"),
+    "render": ("spectrace.commands.render", "render a Mitsuba XML scene in passes"),
+    "doctor": ("spectrace.commands.doctor", "report variants, libLLVM and whether the backend works"),
+    "compare": ("spectrace.commands.compare", "CIEDE2000 between two images, scenes or variants"),
+    "furnace": ("spectrace.commands.furnace", "white furnace: directional albedo of a BSDF vs incident angle"),
+    "spd": ("spectrace.commands.spd", "XYZ, xy, CCT, CRI and sRGB colour of an SPD file or dataset"),
 }
 
 EXIT_USAGE = 2

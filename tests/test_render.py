@@ -7,7 +7,7 @@ import pytest
 
 import spectrace
 from spectrace.errors import UserError
-from spectrace.render import pass_seed, pass_sizes, render_passes
+from spectrace.passes import pass_seed, pass_sizes, render_passes
 
 
 def small_scene():

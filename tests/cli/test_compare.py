@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from spectrace.cli import main
-from spectrace.compare import compare_images
+from spectrace.comparison import compare_images
 from spectrace.images import write_exr, write_png
 
 ROOT = Path(__file__).resolve().parents[2]

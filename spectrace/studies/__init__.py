@@ -60,8 +60,6 @@ GRID = np.arange(360.0, 831.0, 1.0)
 OBSERVER = "CIE 1931 2 Degree Standard Observer"
 #: Environment variable: "1" renders the notebooks at test size.
 QUICK_ENV = "SPECTRACE_QUICK"
-#: The repository's scene folder (the notebooks run from a checkout).
-SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
 
 def quick() -> bool:
@@ -76,7 +74,9 @@ def budget(normal: int, small: int) -> int:
 
 def scene_path(name: str) -> Path:
     """Path of ``scenes/<name>`` (``.xml`` added when missing); FileNotFoundError if absent."""
-    path = SCENES / (name if name.endswith(".xml") else name + ".xml")
+    from spectrace import scenes
+
+    path = scenes.path(name)
     if not path.is_file():
         raise FileNotFoundError(f"no scene {path}")
     return path

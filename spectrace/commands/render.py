@@ -9,7 +9,7 @@ from pathlib import Path
 
 from spectrace import DEFAULT_VARIANT
 from spectrace.errors import UserError
-from spectrace.render import DEFAULT_SPP_PER_PASS, check_sample_counts, scene_spp
+from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts, scene_spp
 
 FILMS = ("rgb", "spectral")
 DEFAULT_BANDS = 16
@@ -99,7 +99,7 @@ def _render_with_progress(scene, spp, args):
     from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn,
                                TimeRemainingColumn)
 
-    from spectrace.render import render_passes
+    from spectrace.passes import render_passes
 
     quiet = args.quiet or not sys.stderr.isatty()
     with Progress("[progress.description]{task.description}", BarColumn(),

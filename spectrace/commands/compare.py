@@ -10,7 +10,6 @@ mean, 95th percentile and maximum CIEDE2000 and the relative difference of mean 
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -18,42 +17,7 @@ import numpy as np
 from spectrace import DEFAULT_VARIANT
 from spectrace.errors import UserError
 
-#: Rec. 709 / sRGB luminance weights of linear R, G, B (IEC 61966-2-1, Y row of the matrix).
-LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
 SCENE_SUFFIXES = (".xml",)
-
-
-@dataclass
-class Comparison:
-    a: np.ndarray  # (H, W, 3) linear sRGB
-    b: np.ndarray
-    delta_e: np.ndarray  # (H, W) CIEDE2000
-
-    @property
-    def stats(self) -> dict[str, float]:
-        ya = float((self.a @ LUMINANCE_WEIGHTS).mean())
-        yb = float((self.b @ LUMINANCE_WEIGHTS).mean())
-        return {
-            "mean": float(self.delta_e.mean()),
-            "p95": float(np.percentile(self.delta_e, 95)),
-            "max": float(self.delta_e.max()),
-            "luminance_rel": (yb - ya) / ya if ya > 0 else float("nan"),
-        }
-
-
-def compare_images(a: np.ndarray, b: np.ndarray) -> Comparison:
-    """CIEDE2000 per pixel between two linear-sRGB images of the same size."""
-    from spectrace.spectral import delta_e_2000, encode_srgb
-
-    a = np.asarray(a, dtype=np.float64)[..., :3]
-    b = np.asarray(b, dtype=np.float64)[..., :3]
-    if a.shape != b.shape:
-        raise UserError(f"image sizes differ: {a.shape[1]}x{a.shape[0]} and "
-                        f"{b.shape[1]}x{b.shape[0]}")
-    if not (np.isfinite(a).all() and np.isfinite(b).all()):
-        raise UserError("an image holds NaN or infinite values")
-    display = [encode_srgb(np.clip(x, 0.0, 1.0)) for x in (a, b)]
-    return Comparison(a, b, np.asarray(delta_e_2000(*display)))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -72,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _render_scene(path: Path, variant: str, args) -> np.ndarray:
     import spectrace
-    from spectrace.render import scene_spp
+    from spectrace.passes import scene_spp
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
     read_scene_xml(path)
@@ -107,35 +71,9 @@ def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
             Path(args.a).name, Path(args.b).name)
 
 
-def write_figure(path, comparison: Comparison, label_a: str, label_b: str) -> None:
-    """A | B | CIEDE2000 heat map with a colour bar, as a PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from spectrace.images import atomic_path
-    from spectrace.spectral import encode_srgb
-
-    stats = comparison.stats
-    fig, axes = plt.subplots(1, 3, figsize=(12, 4.2), constrained_layout=True)
-    for ax, img, label in zip(axes, (comparison.a, comparison.b), (label_a, label_b)):
-        ax.imshow(encode_srgb(np.clip(img, 0, 1)))
-        ax.set_title(label)
-        ax.axis("off")
-    vmax = max(stats["p95"], 1e-3)
-    heat = axes[2].imshow(comparison.delta_e, cmap="magma", vmin=0, vmax=vmax)
-    axes[2].set_title(f"CIEDE2000 (mean {stats['mean']:.2f}, max {stats['max']:.1f})")
-    axes[2].axis("off")
-    fig.colorbar(heat, ax=axes[2], label="ΔE₀₀ (clipped at the 95th percentile)")
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=100, format="png")
-    plt.close(fig)
-
-
 def run(args) -> int:
     from spectrace.images import check_writable
-    from spectrace.render import DEFAULT_SPP_PER_PASS, check_sample_counts
+    from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts
 
     check_sample_counts(args.spp, DEFAULT_SPP_PER_PASS)
     out = Path(args.output)
@@ -143,6 +81,8 @@ def run(args) -> int:
         raise UserError(f"output {out}: must end in .png")
     check_writable(out)
     a, b, label_a, label_b = inputs(args)
+    from spectrace.comparison import compare_images, write_figure
+
     comparison = compare_images(a, b)
     write_figure(out, comparison, label_a, label_b)
     s = comparison.stats
