@@ -16,6 +16,7 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "bsdfs.phong",
     "bsdfs.blinnphong",
     "emitters.falloff",
+    "emitters.luminous",
     "emitters.delta",
     "emitters.pointlight",
     "emitters.spotlight",
