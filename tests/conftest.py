@@ -8,11 +8,21 @@ import pytest
 import spectrace
 
 VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
+#: Every LLVM variant the plugins support: RGB, mono, spectral and their polarized forms.
+ALL_VARIANTS = ("llvm_ad_rgb", "llvm_ad_mono", "llvm_ad_spectral",
+                "llvm_ad_rgb_polarized", "llvm_ad_mono_polarized", "llvm_ad_spectral_polarized")
 
 
 @pytest.fixture(params=VARIANTS)
 def variant(request):
     """Run the test once per LLVM variant (RGB and spectral), plugins registered."""
+    spectrace.set_variant(request.param)
+    return request.param
+
+
+@pytest.fixture(params=ALL_VARIANTS)
+def any_variant(request):
+    """Run the test once per supported LLVM variant (ALL_VARIANTS), plugins registered."""
     spectrace.set_variant(request.param)
     return request.param
 
