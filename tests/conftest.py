@@ -8,9 +8,9 @@ import pytest
 import spectrace
 
 VARIANTS = ("llvm_ad_rgb", "llvm_ad_spectral")
-#: Every LLVM variant the plugins support: RGB, mono, spectral and their polarized forms.
-ALL_VARIANTS = ("llvm_ad_rgb", "llvm_ad_mono", "llvm_ad_spectral",
-                "llvm_ad_rgb_polarized", "llvm_ad_mono_polarized", "llvm_ad_spectral_polarized")
+#: Every LLVM variant of Mitsuba's wheel: RGB, mono, spectral and the polarized forms it has.
+ALL_VARIANTS = ("llvm_ad_rgb", "llvm_ad_mono", "llvm_ad_mono_polarized", "llvm_ad_spectral",
+                "llvm_ad_spectral_polarized")
 
 
 @pytest.fixture(params=VARIANTS)
