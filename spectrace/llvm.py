@@ -110,9 +110,12 @@ def configure_libllvm(environ=os.environ, search_dirs=SEARCH_DIRS) -> LibLLVM:
         if not os.path.isfile(user_path):
             raise UserError(f"{ENV_VAR}={user_path}: no such file")
         if major is not None and major < MIN_LLVM_MAJOR:
+            good = find_libllvm(search_dirs)
+            fix = (f"unset {ENV_VAR} to use the installed {good.path} (LLVM {good.major})"
+                   if good is not None else f"install one: {install_hint()}")
             raise UserError(
                 f"{ENV_VAR}={user_path} is LLVM {major}; Dr.Jit needs LLVM >= {MIN_LLVM_MAJOR}"
-                f" (install one: {install_hint()})"
+                f" ({fix})"
             )
         return LibLLVM(user_path, major if major is not None else MIN_LLVM_MAJOR)
     lib = find_libllvm(search_dirs)

@@ -25,6 +25,7 @@ __all__ = [
     "MITSUBA_WAVELENGTH_RANGE",
     "colorchecker",
     "illuminant",
+    "is_reflectance_dataset",
     "load_spd",
     "read_spd_csv",
     "to_mitsuba_spectrum",
@@ -114,6 +115,21 @@ def colorchecker(chart: str = DEFAULT_CHART):
     return wl, values, names
 
 
+def _colorchecker_patch(source: str):
+    """The colour-science ColorChecker patch named by ``source`` ("dark skin" or
+    "BabelColor Average:dark skin"), or None."""
+    chart, _, patch = source.rpartition(":")
+    chart = chart or DEFAULT_CHART
+    if chart in colour.SDS_COLOURCHECKERS and patch in colour.SDS_COLOURCHECKERS[chart]:
+        return colour.SDS_COLOURCHECKERS[chart][patch]
+    return None
+
+
+def is_reflectance_dataset(source: str) -> bool:
+    """Whether ``source`` names a reflectance dataset (a ColorChecker patch), not a light."""
+    return not Path(source).exists() and _colorchecker_patch(source) is not None
+
+
 def load_spd(source: str) -> tuple[np.ndarray, np.ndarray, str]:
     """Resolve an SPD by file path or dataset name; returns ``(wavelengths, values, label)``.
 
@@ -131,10 +147,8 @@ def load_spd(source: str) -> tuple[np.ndarray, np.ndarray, str]:
         return wl, v, source
     except KeyError:
         pass
-    chart, _, patch = source.rpartition(":")
-    chart = chart or DEFAULT_CHART
-    if chart in colour.SDS_COLOURCHECKERS and patch in colour.SDS_COLOURCHECKERS[chart]:
-        sd = colour.SDS_COLOURCHECKERS[chart][patch]
+    sd = _colorchecker_patch(source)
+    if sd is not None:
         return np.asarray(sd.wavelengths, np.float64), np.asarray(sd.values, np.float64), source
     raise UserError(
         f"{source!r}: no such file and not a known dataset name (e.g. D65, A, FL2, "

@@ -21,9 +21,7 @@ in the same folder renamed over the target). Read back by colour-science's
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -124,16 +122,12 @@ def write_spectral_exr(
     if kind == "emissive":
         header["emissiveUnits"] = emissive_units
     header.update(attributes or {})
+    from spectrace.images import atomic_path
+
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".exr", dir=path.parent or ".")
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:  # temporary name, umask mode, renamed on success
         with OpenEXR.File(header, channels) as f:
             f.write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

@@ -1,4 +1,10 @@
-"""``spectrace compare``: CIEDE2000 between two images, two scenes, or one scene in two variants.
+"""``spectrace compare``: CIEDE2000 between two images, two scenes, one scene in two variants,
+or one scene under two settings.
+
+``spectrace compare SCENE.xml -D a=1 --against -D a=2`` renders the scene twice: ``-D``
+options before ``--against`` set side A, those after it side B (B starts from A's settings
+and overrides them). Comparing a scene with itself under the same settings and variant is
+refused: it would report 0 whatever the renderer does.
 
 Inputs are EXR (linear sRGB) or PNG/JPEG (sRGB-encoded) images, or Mitsuba XML scenes,
 which are rendered first. Colour differences are CIEDE2000 on the sRGB-encoded images
@@ -29,19 +35,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"variant for rendering scenes (default {DEFAULT_VARIANT})")
     parser.add_argument("--spp", type=int, help="samples per pixel for scenes")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
+    parser.add_argument("-D", dest="defines", action=_SideDefine, default=[], metavar="NAME=VALUE",
+                        help="scene parameter; after --against it sets side B only")
+    parser.add_argument("--against", action="store_true",
+                        help="the -D options that follow set the second side (B) of one scene")
     parser.add_argument("-o", "--output", default="out/compare.png",
                         help="side-by-side PNG (default out/compare.png)")
 
 
-def _render_scene(path: Path, variant: str, args) -> np.ndarray:
+class _SideDefine(argparse.Action):
+    """``-D``: appended to side A's list, or to side B's once ``--against`` was given
+    (argparse runs actions in command-line order)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        name = "defines_b" if getattr(namespace, "against", False) else self.dest
+        setattr(namespace, name, [*(getattr(namespace, name, None) or []), values])
+
+
+def _render_scene(path: Path, variant: str, args, defines=None) -> np.ndarray:
     import spectrace
     from spectrace.passes import scene_spp
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
     read_scene_xml(path)
     spectrace.set_variant(variant)
-    scene = load_scene(path, parse_defines(args.defines))
+    params = parse_defines(args.defines if defines is None else defines)
+    scene = load_scene(path, params)
     result = spectrace.render(scene, spp=args.spp or scene_spp(scene), seed=args.seed)
     return result.image[..., :3]
 
@@ -57,16 +76,44 @@ def _load(path: str, variant: str, args) -> np.ndarray:
 
 def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
     """The two images to compare and their labels."""
+    from spectrace.scene import parse_defines
+
+    if args.against:
+        if args.variants or args.b is not None:
+            raise UserError("--against compares two settings of one scene: give one scene, "
+                            "no second input and no --variants")
+        if Path(args.a).suffix.lower() not in SCENE_SUFFIXES:
+            raise UserError(f"--against needs a scene (.xml), got {args.a}")
+        side_a = parse_defines(args.defines)
+        side_b = {**side_a, **parse_defines(getattr(args, "defines_b", None))}
+        if side_a == side_b:
+            raise UserError("--against: side B sets nothing new (give -D name=value after "
+                            "--against): nothing to compare")
+        label = Path(args.a).name
+        changed = " ".join(f"{k}={v}" for k, v in side_b.items() if side_a.get(k) != v)
+        before = " ".join(f"{k}={side_a[k]}" for k in side_b if k in side_a and
+                          side_a[k] != side_b[k])
+        return (_render_scene(Path(args.a), args.variant, args, args.defines),
+                _render_scene(Path(args.a), args.variant, args,
+                              [f"{k}={v}" for k, v in side_b.items()]),
+                f"{label} {before}".strip(), f"{label} {changed}")
     if args.variants:
         names = [v.strip() for v in args.variants.split(",") if v.strip()]
         if len(names) != 2 or args.b is not None:
             raise UserError("--variants takes exactly two variants and one scene")
+        if names[0] == names[1]:
+            raise UserError(f"--variants: both sides are {names[0]}: nothing to compare")
         if Path(args.a).suffix.lower() not in SCENE_SUFFIXES:
             raise UserError(f"--variants needs a scene (.xml), got {args.a}")
         return (_render_scene(Path(args.a), names[0], args),
                 _render_scene(Path(args.a), names[1], args), names[0], names[1])
     if args.b is None:
-        raise UserError("give two images or scenes, or one scene with --variants")
+        raise UserError("give two images or scenes, one scene with --variants, or one scene "
+                        "with -D ... --against -D ...")
+    if (Path(args.a).suffix.lower() in SCENE_SUFFIXES and Path(args.a).resolve() ==
+            Path(args.b).resolve()):
+        raise UserError(f"{args.a} against itself with the same settings and variant: nothing "
+                        "to compare (use -D ... --against -D ..., or --variants)")
     return (_load(args.a, args.variant, args), _load(args.b, args.variant, args),
             Path(args.a).name, Path(args.b).name)
 

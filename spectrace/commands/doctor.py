@@ -66,6 +66,18 @@ def check_backend(timeout: float) -> tuple[bool, str]:
     return proc.returncode == 0 and last == "ok", last
 
 
+def _fix(user: str | None, candidates, install_hint) -> str:
+    """The advice when no libLLVM can be used: unset the variable when it names a bad
+    library while a good one is installed; otherwise install one."""
+    from spectrace.llvm import ENV_VAR, MIN_LLVM_MAJOR
+
+    good = [c for c in candidates if c.major is not None and c.major >= MIN_LLVM_MAJOR]
+    if user and good:
+        return (f"unset {ENV_VAR} (it names {user}; libLLVM {good[0].major} is installed at "
+                f"{good[0].path} and is used when the variable is not set)")
+    return install_hint()
+
+
 def run(args) -> int:
     from spectrace.llvm import ENV_VAR, configure_libllvm, find_libllvm_candidates, install_hint
 
@@ -85,7 +97,7 @@ def run(args) -> int:
         print(f"libLLVM used:    {lib.path} (LLVM {lib.major}, {origin})")
     except UserError as e:
         print(f"libLLVM used:    none: {e}")
-        print(f"fix:             {install_hint()}")
+        print(f"fix:             {_fix(user, candidates, install_hint)}")
         return 1
 
     import mitsuba as mi

@@ -10,16 +10,17 @@ SOURCE is a two-column CSV file (wavelength in nm, value) or a colour-science da
 * sRGB: the SPD's colour as encoded sRGB, scaled so that its largest linear component is 1
   (out-of-gamut components clipped to [0, 1]), also as #rrggbb.
 
-With ``--reflectance``, the SPD is a reflectance and XYZ is taken under an illuminant
-(``--illuminant``, default D65; perfect white Y = 1) instead, without CCT/CRI.
+With ``--reflectance`` (automatic for ColorChecker patches), the SPD is a reflectance and
+XYZ is taken under an illuminant (``--illuminant``, default D65; perfect white Y = 1)
+instead, without CCT/CRI. Wavelengths in micrometres or metres and negative values are
+refused with a line that names them. The numbers come from
+:func:`spectrace.spectral.describe.describe_spd`.
 ``--plot out.png`` draws the SPD with the area under it coloured by wavelength.
 A missing or malformed file is one ``error: ...`` line and exit status 2.
 """
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +47,8 @@ def add_arguments(parser) -> None:
     parser.add_argument(
         "--reflectance",
         action="store_true",
-        help="treat the SPD as a reflectance seen under --illuminant",
+        help="treat the SPD as a reflectance seen under --illuminant (automatic for "
+        "ColorChecker patches)",
     )
     parser.add_argument(
         "--illuminant", default="D65", help="illuminant for --reflectance (default D65)"
@@ -54,43 +56,33 @@ def add_arguments(parser) -> None:
     parser.add_argument("--plot", metavar="OUT.png", help="draw the SPD coloured by wavelength")
 
 
-def describe(
-    wavelengths, values, observer: str = "2", reflectance: bool = False, illuminant: str = "D65"
-) -> dict:
-    """The numbers that ``spectrace spd`` prints, as a dict (for notebooks and tests)."""
-    from spectrace import spectral as S
-
-    obs = OBSERVER_CHOICES[observer]
-    if np.max(values) <= 0:
-        raise UserError("the SPD has no positive value")
-    xyz = S.spd_to_xyz(wavelengths, values, reflectance and illuminant or None, observer=obs)
-    out = {"XYZ": xyz, "xy": xyz[:2] / xyz.sum()}
-    if not reflectance:
-        cct, duv = S.cct(wavelengths, values, return_duv=True)
-        out["CCT"], out["Duv"] = float(cct), float(duv)
-        out["CRI"] = S.cri(wavelengths, values)
-    linear = S.xyz_to_linear_srgb(xyz)
-    if not reflectance:
-        linear = linear / max(float(linear.max()), 1e-300)
-    out["sRGB"] = S.encode_srgb(np.clip(linear, 0.0, 1.0))
-    return out
-
-
 def run(args) -> int:
     from spectrace import spectral as S
+    from spectrace.spectral.datasets import is_reflectance_dataset
+    from spectrace.spectral.describe import describe_spd
 
     wl, values, label = S.load_spd(args.source)
-    if args.reflectance and args.illuminant not in _illuminant_names():
+    # A ColorChecker patch is a reflectance: CCT and CRI describe light sources only.
+    reflectance = args.reflectance or is_reflectance_dataset(args.source)
+    if reflectance and args.illuminant not in _illuminant_names():
         raise UserError(f"--illuminant: unknown illuminant {args.illuminant!r}")
+    if args.plot:
+        from spectrace.images import check_writable
+
+        if Path(args.plot).suffix.lower() != ".png":
+            raise UserError(f"--plot {args.plot}: must end in .png")
+        check_writable(args.plot)
     try:
-        info = describe(wl, values, args.observer, args.reflectance, args.illuminant)
+        info = describe_spd(wl, values, OBSERVER_CHOICES[args.observer], reflectance,
+                            args.illuminant, where=label)
     except ValueError as e:
-        raise UserError(f"{label}: {e}") from None
+        raise UserError(str(e)) from None
     x, y, z = info["XYZ"]
-    print(f"SPD      {label}: {wl.size} samples, {wl[0]:g}-{wl[-1]:g} nm")
+    print(f"SPD      {label}: {wl.size} samples, {wl[0]:g}-{wl[-1]:g} nm"
+          + ("  (a reflectance dataset)" if reflectance and not args.reflectance else ""))
     print(
         f"XYZ      {x:.6g} {y:.6g} {z:.6g}"
-        + (f"  (reflectance under {args.illuminant}, white Y = 1)" if args.reflectance else "")
+        + (f"  (reflectance under {args.illuminant}, white Y = 1)" if reflectance else "")
     )
     print(f"xy       {info['xy'][0]:.5f} {info['xy'][1]:.5f}")
     if "CCT" in info:
@@ -148,16 +140,12 @@ def plot_spd(path, wavelengths, values, title: str = "") -> Path:
     ax.set_ylabel("value")
     ax.set_title(title)
     fig.tight_layout()
+    from spectrace.images import atomic_path
+
     path = Path(path)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".png", dir=path.parent or ".")
-    except OSError as e:
-        raise UserError(f"{path}: cannot write ({e.strerror})") from None
-    os.close(fd)
-    try:
-        fig.savefig(tmp, format="png")
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:  # temporary name, umask mode, renamed on success
+            fig.savefig(tmp, format="png")
     finally:
         plt.close(fig)
-        Path(tmp).unlink(missing_ok=True)
     return path

@@ -100,3 +100,66 @@ def test_unreadable_input(tmp_path, capsys, content):
     assert code == EXIT_USAGE
     err = capsys.readouterr().err.strip()
     assert err.startswith("error: ") and "bad.png" in err and "\n" not in err
+
+
+#: Relative tolerance on the mean luminance ratio of two renders of a lit diffuse plane.
+LUMINANCE_RTOL = 0.02
+
+PLANE_SCENE = """<scene version="3.0.0">
+    <default name="albedo" value="0.4"/>
+    <integrator type="direct"/>
+    <sensor type="orthographic">
+        <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+        <sampler type="independent"><integer name="sample_count" value="64"/></sampler>
+    </sensor>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="4"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="$albedo"/></bsdf>
+    </shape>
+    <emitter type="constant"/>
+</scene>
+"""
+
+
+@pytest.fixture
+def plane_scene(tmp_path):
+    path = tmp_path / "plane.xml"
+    path.write_text(PLANE_SCENE)
+    return path
+
+
+def test_against_compares_two_settings_of_one_scene(plane_scene, tmp_path, capsys):
+    """-D before --against sets side A, after it side B: a diffuse plane under a uniform sky
+    has radiance rho, so doubling the albedo doubles the mean luminance (B - A) / A = 1."""
+    out = tmp_path / "against.png"
+    code = main(["compare", str(plane_scene), "--variant", "llvm_ad_rgb", "-D", "albedo=0.3",
+                 "--against", "-D", "albedo=0.6", "-o", str(out)])
+    text = capsys.readouterr().out
+    assert code == 0 and out.exists()
+    relative = float(text.split("(B - A) / A:")[1].split()[0])
+    assert relative == pytest.approx(1.0, rel=LUMINANCE_RTOL)
+    assert "albedo=0.3" in text and "albedo=0.6" in text
+
+
+@pytest.mark.parametrize("argv", [
+    ["-D", "albedo=0.3", "--against", "-D", "albedo=0.3"],  # B sets nothing new
+    ["--against"],
+    [],  # the scene against itself below
+])
+def test_nothing_to_compare_is_refused(plane_scene, tmp_path, capsys, argv):
+    """Comparing a scene with itself under the same settings would report 0 whatever the
+    renderer does: refused in one line, nothing written."""
+    out = tmp_path / "same.png"
+    inputs = [str(plane_scene)] + ([] if argv else [str(plane_scene)])
+    code = main(["compare", *inputs, *argv, "--variant", "llvm_ad_rgb", "-o", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == EXIT_USAGE and "nothing to compare" in err and "\n" not in err
+    assert not out.exists()
+
+
+def test_same_variant_twice_is_refused(plane_scene, tmp_path, capsys):
+    """--variants with the same variant on both sides compares nothing."""
+    code = main(["compare", str(plane_scene), "--variants", "llvm_ad_rgb,llvm_ad_rgb",
+                 "-o", str(tmp_path / "v.png")])
+    assert code == EXIT_USAGE and "nothing to compare" in capsys.readouterr().err

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 
 import colour
 import numpy as np
@@ -70,12 +72,34 @@ def test_reflectance_under_d65(capsys):
     np.testing.assert_allclose(numbers(out, "XYZ")[:3], xyz, rtol=XYZ_RTOL)
 
 
-def test_plot_writes_png(capsys, tmp_path):
-    """--plot writes a PNG file."""
+def test_plot_writes_png_with_the_umask_mode(capsys, tmp_path):
+    """--plot writes a PNG file whose mode follows the umask like every other output
+    (not mkstemp's 0600)."""
     png = tmp_path / "a.png"
-    rc, out, _ = run(capsys, "A", "--plot", str(png))
+    old = os.umask(0o022)
+    try:
+        rc, out, _ = run(capsys, "A", "--plot", str(png))
+    finally:
+        os.umask(old)
     assert rc == 0
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert stat.S_IMODE(png.stat().st_mode) == 0o644
+
+
+def test_reflectance_dataset_is_described_as_a_reflectance(capsys):
+    """A ColorChecker patch is a reflectance: without --reflectance it is still shown under
+    D65 (same XYZ as with it), and no CCT or CRI (which describe light sources) is printed."""
+    rc, out, _ = run(capsys, "dark skin")
+    rc2, out2, _ = run(capsys, "dark skin", "--reflectance")
+    assert rc == rc2 == 0
+    assert "CCT" not in out and "CRI" not in out and "reflectance" in out
+    assert numbers(out, "XYZ")[:3] == numbers(out2, "XYZ")[:3]
+
+
+def test_bad_plot_path_writes_nothing(capsys, tmp_path):
+    """--plot to a non-PNG name is refused before anything is computed or written."""
+    rc, out, err = run(capsys, "A", "--plot", str(tmp_path / "a.jpg"))
+    assert rc == 2 and err.startswith("error: --plot") and not list(tmp_path.iterdir())
 
 
 @pytest.mark.parametrize(
@@ -84,7 +108,12 @@ def test_plot_writes_png(capsys, tmp_path):
         (None, "no such file"),
         ("wavelength,value\n400,1\n450,abc\n", "not a number"),
         ("400,1\n400,2\n", "duplicate"),
-        ("400,-1\n500,-2\n", "no positive value"),
+        ("400,-1\n500,-2\n", "negative value -1 at 400 nm"),
+        ("400,1\n500,-0.5\n600,1\n", "negative value -0.5 at 500 nm"),
+        ("0.40,1\n0.55,2\n0.70,1\n", "must be in nm; 0.4-0.7 look like micrometres"),
+        ("4e-07,1\n5.5e-07,2\n7e-07,1\n", "look like metres"),
+        ("1000,1\n1100,2\n", "do not overlap the CIE range"),
+        ("400,0\n500,0\n", "every value is 0"),
     ],
 )
 def test_bad_files_exit_2_with_one_line(capsys, tmp_path, content, message):

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import stat
+
 import numpy as np
 import OpenEXR
 import pytest
@@ -19,6 +22,19 @@ PREVIEW_RTOL = 1e-5
 def spectral(rng):
     wl = np.array([400.0, 412.5, 450.0, 500.0, 550.0, 600.0, 650.0, 700.0, 1000.0])
     return rng.uniform(0, 2, (5, 7, wl.size)).astype(np.float32), wl
+
+
+def test_file_mode_follows_the_umask(tmp_path, spectral):
+    """OUT.spectral.exr gets the umask's mode like the other outputs (not mkstemp's 0600),
+    and no temporary file is left beside it."""
+    image, wl = spectral
+    old = os.umask(0o022)
+    try:
+        path = S.write_spectral_exr(tmp_path / "m.spectral.exr", image, wl)
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
+    assert [p.name for p in tmp_path.iterdir()] == ["m.spectral.exr"]
 
 
 def test_round_trip_and_layout(tmp_path, spectral):
