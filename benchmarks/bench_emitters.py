@@ -6,8 +6,10 @@ light and one spot light. Each configuration is rendered once to warm up (tracin
 kernel compilation, then cached), then ``REPEATS`` times, interleaved with the other
 configurations; the table shows the median time and its ratio to the built-in lights in
 the same variant. The plugin configurations: the spot with ``linear_angle`` (the built-in's
-law) and with the default ``quadratic`` law, and both lights with a ``windowed`` distance
-law.
+law) and with the default ``quadratic`` law, both lights in photometric units (candela and
+lumens: a constant scale computed at load, so the same kernels), and both lights with a
+``windowed`` distance law. Variants: RGB and spectral, and also mono and spectral_polarized
+(where the lights return depolarizing Mueller matrices as the built-ins do).
 
 Run: ``.venv/bin/python benchmarks/bench_emitters.py [--res 256] [--spp 16] [--repeats 5]``
 """
@@ -19,6 +21,9 @@ import statistics
 from _timing import VARIANTS, interleaved, print_table, render_parser, timed_render
 
 import spectrace
+
+#: The lights work in every LLVM variant: also time the mono and polarized ones.
+EXTRA_VARIANTS = ("llvm_ad_mono", "llvm_ad_spectral_polarized")
 
 
 def scene_dict(lights: dict, res: int, spp: int) -> dict:
@@ -71,6 +76,12 @@ def configurations() -> dict[str, dict]:
             "spot": {"type": "spotlight", "to_world": spot_world, "intensity": 30.0,
                      "umbra_angle": 30.0, "penumbra_angle": 20.0},
         },
+        "... in cd and lm (d65 spectrum)": {
+            "point": {"type": "pointlight", "position": [-2, 3, 2],
+                      "luminous_intensity": 2000.0},
+            "spot": {"type": "spotlight", "to_world": spot_world, "luminous_flux": 3000.0,
+                     "umbra_angle": 30.0, "penumbra_angle": 20.0},
+        },
         "... with windowed falloff (radius 10)": {
             "point": {"type": "pointlight", **point, "falloff": "windowed", "radius": 10.0},
             "spot": {"type": "spotlight", "to_world": spot_world, "intensity": 30.0,
@@ -84,7 +95,7 @@ def main() -> int:
     args = render_parser(__doc__, repeats=5).parse_args()
 
     rows = []
-    for variant in VARIANTS:
+    for variant in VARIANTS + EXTRA_VARIANTS:
         spectrace.set_variant(variant)
         import mitsuba as mi
 
@@ -103,7 +114,7 @@ def main() -> int:
 
     print(f"render {args.res}x{args.res}, {args.spp} spp, path max_depth 4, "
           f"median of {args.repeats} after a warm-up")
-    print_table([("variant", "<18", ""), ("lights", "<40", ""), ("time (s)", ">9", ".3f"),
+    print_table([("variant", "<27", ""), ("lights", "<40", ""), ("time (s)", ">9", ".3f"),
                  ("ratio", ">7", ".3f")], rows)
     return 0
 

@@ -1,41 +1,58 @@
-"""Distance falloff laws shared by the ``pointlight`` and ``spotlight`` emitters.
+"""``falloff``: the distance laws of spectrace's lights (helper page, not a plugin).
 
-Not a plugin: a helper module executed before the two lights (see
-``spectrace.plugins.PLUGIN_MODULES``). It holds the one mapping from the value of the
-lights' ``falloff`` parameter to a law, the parsing and validation of the laws'
-parameters, and the parsing of the lights' ``intensity`` / ``power`` pair.
+The ``falloff`` parameter of ``pointlight``, ``spotlight`` and ``ieslight`` picks how the
+light fades with the distance r between the light and the lit point. The law multiplies the
+radiant intensity I (W/sr) to give the irradiance on a surface facing the light,
+E = I falloff(r) (W/m^2 for ``inverse_square`` with r in metres). The law's parameters sit
+beside ``falloff`` on the light; a parameter of another law is reported by Mitsuba as
+unused. Only ``inverse_square`` is physically consistent: light tracing (``ptracer``,
+which starts paths with ``sample_ray``) produces 1/r^2 through the density of the rays it
+traces and cannot apply another law; integrators that connect to the light (``direct``,
+``path``, ``prb``, ``local``, ``illuminance``) apply every law. A helper module executed
+before the lights (see ``spectrace.plugins.PLUGIN_MODULES``).
 
-A law maps the squared distance r^2 between the light and the lit point to the factor
-that multiplies the radiant intensity I (W/sr) to give the irradiance on a surface facing
-the light, E = I * falloff(r) (W/m^2 for ``inverse_square``):
+Parameters
+----------
 
-| ``falloff``              | falloff(r)                                 | parameters (default)  |
-|--------------------------|--------------------------------------------|-----------------------|
-| ``inverse_square``       | 1 / r^2 (the physical law; the default)    |                       |
-| ``inverse_square_epsilon``| 1 / (r + epsilon)^2                       | ``epsilon`` (0.01),   |
-|                          |                                            | >= 0                  |
-| ``polynomial``           | 1 / (kc + kl r + kq r^2)                   | ``kc`` (0), ``kl``    |
-|                          |                                            | (0), ``kq`` (1): all  |
-|                          |                                            | >= 0, not all 0       |
-| ``windowed``             | clamp(1 - (r/R)^4, 0, 1)^2/max(r^2, eps^2) | ``radius`` R > 0      |
-|                          |                                            | (required), epsilon   |
-|                          |                                            | (0.01) > 0            |
-| ``none``                 | 1 (no distance falloff)                    |                       |
+===========  ======  ==============  =====  =======================================================
+parameter    type    default         unit   description
+===========  ======  ==============  =====  =======================================================
+``falloff``  string  inverse_square  --     the law: ``inverse_square``, ``inverse_square_epsilon``,
+                                            ``polynomial``, ``windowed`` or ``none`` (below)
+``epsilon``  float   0.01            m      offset of ``inverse_square_epsilon`` (>= 0) and smallest
+                                            distance of ``windowed`` (> 0)
+``kc``       float   0               m^2    constant term of ``polynomial``; >= 0
+``kl``       float   0               m      linear term of ``polynomial``; >= 0
+``kq``       float   1               --     quadratic term of ``polynomial``; >= 0; kc, kl, kq not
+                                            all 0
+``radius``   float   (required)      m      radius R of ``windowed``, where the light reaches 0; > 0
+===========  ======  ==============  =====  =======================================================
 
-r is in scene units; with r in metres and I in W/sr, E is in W/m^2 for ``inverse_square``.
+Formula
+-------
 
-Sources: ``polynomial`` is the constant/linear/quadratic attenuation of fixed-function
-OpenGL (``GL_CONSTANT_ATTENUATION`` ...); ``windowed`` is the windowed inverse square of
-B. Karis, "Real Shading in Unreal Engine 4" (SIGGRAPH 2013 course), which reaches exactly
-zero at r = R so that far lights can be culled; ``inverse_square_epsilon`` is the usual
-singularity-free variant of 1/r^2. All parameters are in scene units.
+::
 
-Only ``inverse_square`` is physically consistent: light tracing (``ptracer``, which starts
-paths with ``sample_ray``) produces 1/r^2 through the density of the rays it traces and
-cannot apply another law; integrators that connect to the light (``direct``, ``path``,
-``prb``, ``local``) apply every law.
+    inverse_square           falloff(r) = 1 / r^2
+    inverse_square_epsilon   falloff(r) = 1 / (r + epsilon)^2
+    polynomial               falloff(r) = 1 / (kc + kl r + kq r^2)
+    windowed                 falloff(r) = clamp(1 - (r / R)^4, 0, 1)^2 / max(r^2, epsilon^2)
+    none                     falloff(r) = 1
 
-XML example (the law's parameters sit beside ``falloff`` on the light)::
+Sources
+-------
+
+Segal, Akeley (2006), *The OpenGL Graphics System 1.x Specification*, sec. 2.14.1
+(``GL_CONSTANT_ATTENUATION``, ``GL_LINEAR_ATTENUATION``, ``GL_QUADRATIC_ATTENUATION``:
+``polynomial``); Karis (2013), "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course
+*Physically Based Shading in Theory and Practice* (``windowed``: reaches exactly zero at
+r = R so that far lights can be culled); Pharr, Jakob, Humphreys (2023), *Physically Based
+Rendering* 4th ed., sec. 12.1 (the inverse square law).
+
+Example
+-------
+
+A light whose reach ends at 8 m::
 
     <emitter type="pointlight">
         <point name="position" x="0" y="2" z="0"/>
@@ -55,10 +72,46 @@ import mitsuba as mi
 DEFAULT_LAW = "inverse_square"
 
 
+def type_name(props, name: str) -> str:
+    """The XML type of a given parameter, as a user wrote it (float, string, rgb, ...)."""
+    return str(props.type(name)).split(".")[-1].lower()
+
+
+def read_float(props, plugin: str, name: str, default: float) -> float:
+    """A float parameter (an ``<integer>`` is accepted too, as Mitsuba does); any other
+    XML type is an error naming the parameter, never a silent conversion."""
+    if name not in props:
+        return default
+    if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):
+        raise ValueError(
+            f"{plugin}: parameter '{name}' must be a float (got a {type_name(props, name)} "
+            f"{props.as_string(name)})"
+        )
+    return float(props.get(name))
+
+
+def read_choice(props, plugin: str, name: str, default: str, options) -> str:
+    """A string parameter that must be one of ``options``."""
+    if name not in props:
+        return default
+    if props.type(name) != mi.Properties.Type.String:
+        raise ValueError(
+            f"{plugin}: parameter '{name}' must be one of {', '.join(options)} (got a "
+            f"{type_name(props, name)} {props.as_string(name)})"
+        )
+    value = props.get(name)
+    if value not in options:
+        raise ValueError(
+            f"{plugin}: parameter '{name}' must be one of {', '.join(options)} "
+            f"(got {value!r})"
+        )
+    return value
+
+
 def _param(props, plugin: str, name: str, default: float | None) -> float:
     """Read the float parameter ``name`` (``default`` when absent; required when None)."""
     if name in props:
-        return float(props.get(name))
+        return read_float(props, plugin, name, 0.0)
     if default is None:
         raise ValueError(
             f"{plugin}: falloff '{props.get('falloff')}' needs parameter '{name}'"
@@ -174,59 +227,13 @@ def parse_falloff(props, plugin: str):
     The returned object is called with the squared distance (a Dr.Jit Float) and gives
     the attenuation factor. Raises ``ValueError`` naming the parameter on a bad value.
     """
-    name = props.get("falloff", DEFAULT_LAW)
-    law = FALLOFF_LAWS.get(name)
-    if law is None:
-        raise ValueError(
-            f"{plugin}: parameter 'falloff' must be one of {', '.join(FALLOFF_LAWS)} "
-            f"(got {name!r})"
-        )
-    return law(props, plugin)
-
-
-def _spectrum_minimum(texture) -> float:
-    """The smallest value of a (spatially uniform) spectrum texture.
-
-    Evaluated on a 1 nm grid over the visible range in spectral variants; RGB variants
-    ignore the wavelengths and give the three channels.
-    """
-    wavelengths = dr.arange(mi.Float, 360, 831)
-    si = dr.zeros(mi.SurfaceInteraction3f, dr.width(wavelengths))
-    if mi.is_spectral:
-        si.wavelengths = mi.Spectrum(wavelengths, wavelengths, wavelengths, wavelengths)
-    value = texture.eval(si)
-    return float(dr.min(value, axis=None)[0])
-
-
-def parse_emission(props, plugin: str, default: float = 1.0):
-    """Read a light's ``intensity`` (W/sr) or ``power`` (W), validated.
-
-    Returns ``(texture, from_power)``: the emissive spectrum texture given (intensity or
-    power) and whether it is a power, which the light then divides by the solid angle it
-    emits into. Both given, or a negative value anywhere in the spectrum, raise
-    ``ValueError`` naming the parameter.
-    """
-    has_intensity = "intensity" in props
-    has_power = "power" in props
-    if has_intensity and has_power:
-        raise ValueError(
-            f"{plugin}: give either parameter 'intensity' or parameter 'power', not both"
-        )
-    name = "power" if has_power else "intensity"
-    texture = props.get_emissive_texture(name, default)
-    if texture.is_spatially_varying():
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be a spectrum, not a spatially varying texture"
-        )
-    minimum = _spectrum_minimum(texture)
-    if not minimum >= 0:
-        raise ValueError(f"{plugin}: parameter '{name}' must be >= 0 (got minimum {minimum})")
-    return texture, has_power
+    name = read_choice(props, plugin, "falloff", DEFAULT_LAW, FALLOFF_LAWS)
+    return FALLOFF_LAWS[name](props, plugin)
 
 
 def parse_angle(props, plugin: str, name: str, default: float) -> float:
     """A half-angle in degrees from ``props``, in (0, 90]."""
-    value = float(props.get(name, default))
+    value = read_float(props, plugin, name, default)
     _require(0 < value <= 90, plugin, name, "in (0, 90] degrees", value)
     return value
 

@@ -1,31 +1,78 @@
-"""Photometric units for spectrace's lights: from candela and lumens to W/sr and W.
+"""``luminous``: photometric units of spectrace's lights (helper page, not a plugin).
 
-Not a plugin: a helper module executed before the lights (see
-``spectrace.plugins.PLUGIN_MODULES``). A light given in luminous units (``luminous_intensity``
-in cd, ``luminous_flux`` in lm, or the candela of an IES/EULUMDAT file) emits the radiant
-spectrum
+A helper module executed before the lights (see ``spectrace.plugins.PLUGIN_MODULES``).
+It turns the luminous quantities a lighting designer
+works with, ``luminous_intensity`` in candela (cd = lm/sr) and ``luminous_flux`` in lumens
+(lm), into the radiometric ones the renderer transports (W/sr, W), for ``pointlight``,
+``spotlight`` and ``ieslight``. A light given in luminous units emits the radiant spectrum::
 
-    I_e(lambda) = I_v * s(lambda) / (K_m * integral V(lambda) s(lambda) dlambda),
+    I_e(lambda) = I_v s(lambda) / (K_m integral V(lambda) s(lambda) dlambda)
 
 with s the light's ``spectrum`` (any Mitsuba spectrum, evaluated as Mitsuba evaluates it),
-V the CIE 1924 photopic luminous efficiency function and K_m = 683 lm/W. Then
+V the CIE photopic luminous efficiency function and K_m = 683 lm/W. Then
 K_m * integral V I_e dlambda = I_v: the light has exactly the luminous intensity asked for,
-whatever the shape and scale of s. Equivalently I_e = I_v / K * s / integral s, with
-K = K_m integral V s / integral s the luminous efficacy of the spectrum (lm/W).
+whatever the shape and scale of s.
+
+Parameters
+----------
+
+======================  ========  =======  ====  ================================================
+parameter               type      default  unit  description
+======================  ========  =======  ====  ================================================
+``luminous_intensity``  float     --       cd    luminous intensity I_v (of ``pointlight``; on the
+                                                 axis of ``spotlight``); >= 0 |exposed|
+                                                 |differentiable|
+``luminous_flux``       float     --       lm    luminous flux Phi_v over all the directions the
+                                                 light emits into; >= 0 |exposed|
+                                                 |differentiable|
+``spectrum``            spectrum  d65      --    spectral shape s of the light (value, tabulated
+                                                 SPD, ``blackbody``, ``d65``, RGB); its scale does
+                                                 not matter; only with a luminous quantity
+                                                 |exposed| |differentiable|
+======================  ========  =======  ====  ================================================
+
+These are parameters of the lights (see their own pages for the rest).
+
+Formula
+-------
+
+Spectral variants: I_e = I_v s / (K_m integral V s dlambda), the integral a sum over the
+1 nm grid 360-830 nm (V is below 4e-6 at both ends and outside). The luminous efficacy of
+the spectrum is K = K_m integral V s / integral s (lm/W).
 
 RGB and monochrome variants have no wavelengths: there the spectrum is a colour c (linear
-Rec. 709 RGB, or one value) and the photometric convention is
+Rec. 709 RGB, or one value) and the photometric convention is::
 
-    I_e = I_v * c / (K_m * Y(c)),       Y(c) = 0.2126 R + 0.7152 G + 0.0722 B  (or c in mono),
+    I_e = I_v c / (K_m Y(c)),       Y(c) = 0.2126 R + 0.7152 G + 0.0722 B  (or c in mono)
 
-so that K_m * Y(I_e) = I_v. The ``illuminance`` integrator reads lux back with the same
-convention (K_m times the Y of the irradiance), so the photometric scale of a scene is the
-same in every variant.
+so that K_m * Y(I_e) = I_v. Reading lux back with the same convention (K_m times the Y of
+the irradiance, as the ``illuminance`` integrator does; K_m * integral V E dlambda in
+spectral variants) gives the same photometric scale in every variant: 100 cd at 1 m give
+100 lux.
 
-Data: V(lambda) is colour-science's ``SDS_LEFS_PHOTOPIC["CIE 1924 Photopic Standard
-Observer"]`` (360-830 nm, 1 nm), imported only when a light in luminous units is loaded.
-Sources: CIE 018:2019 "The basis of physical photometry"; CIE S 017:2020 (ILV) 17-21-050
-(luminous efficacy of radiation).
+The factor 1 / (K_m integral V s) is computed with Dr.Jit from the spectrum's parameters,
+so gradients with respect to ``spectrum`` keep the luminous quantity fixed.
+
+Sources
+-------
+
+CIE (2019), CIE 018:2019 *The Basis of Physical Photometry*, 3rd ed. (K_m = 683 lm/W,
+V(lambda)); CIE (2020), CIE S 017:2020 *ILV: International Lighting Vocabulary*, 17-21-050
+(luminous efficacy of radiation); IEC (1999), IEC 61966-2-1 (the Rec. 709 luminance
+weights). V(lambda) is colour-science's ``SDS_LEFS_PHOTOPIC["CIE 1924 Photopic Standard
+Observer"]`` (Mansencal et al. (2023), colour-science), imported only when a light in
+luminous units is loaded.
+
+Example
+-------
+
+An 800 lm bulb of a warm 2700 K spectrum::
+
+    <emitter type="pointlight">
+        <point name="position" x="0" y="2.4" z="0"/>
+        <float name="luminous_flux" value="800"/>
+        <blackbody name="spectrum" temperature="2700"/>
+    </emitter>
 """
 
 from __future__ import annotations
@@ -68,29 +115,56 @@ def photopic_spectrum():
     })
 
 
+def grid_interaction():
+    """A surface interaction at rest whose wavelengths are the 1 nm grid (spectral
+    variants: one lane per wavelength), or a single lane (RGB and mono variants)."""
+    if not mi.is_spectral:
+        return dr.zeros(mi.SurfaceInteraction3f)
+    wavelengths = dr.arange(mi.Float, GRID_NM[0], GRID_NM[1] + 1)
+    si = dr.zeros(mi.SurfaceInteraction3f, dr.width(wavelengths))
+    si.wavelengths = mi.UnpolarizedSpectrum(wavelengths)
+    return si
+
+
 def evaluate_on_grid(texture) -> np.ndarray:
     """A spatially uniform spectrum texture on the 1 nm grid (spectral variants: shape (N,)),
     or its channels (RGB: (3,), mono: (1,))."""
+    value = mi.unpolarized_spectrum(texture.eval(grid_interaction()))
     if mi.is_spectral:
-        wavelengths = dr.arange(mi.Float, GRID_NM[0], GRID_NM[1] + 1)
-        si = dr.zeros(mi.SurfaceInteraction3f, dr.width(wavelengths))
-        si.wavelengths = mi.Spectrum(wavelengths, wavelengths, wavelengths, wavelengths)
-        value = mi.unpolarized_spectrum(texture.eval(si))
         return np.asarray(value[0], dtype=np.float64)
-    value = mi.unpolarized_spectrum(texture.eval(dr.zeros(mi.SurfaceInteraction3f)))
     return np.array([float(dr.slice(value[i])) for i in range(len(value))], dtype=np.float64)
+
+
+def photometric_integral_dr(texture) -> mi.Float:
+    """integral V s dlambda (nm) as a Dr.Jit Float of width 1, differentiable with respect
+    to the texture's parameters: the 1 nm sum in spectral variants, Y(c) in RGB variants,
+    the value in monochrome ones."""
+    value = mi.unpolarized_spectrum(texture.eval(grid_interaction()))
+    if mi.is_spectral:
+        _, V = photopic_efficiency()
+        return dr.sum(value[0] * mi.Float(V))  # 1 nm steps, V ~ 0 at both ends
+    if mi.is_rgb:
+        return mi.Float(dr.sum(value * mi.Color3f(*LUMINANCE_WEIGHTS)))
+    return mi.Float(value[0])
 
 
 def photometric_integral(texture) -> float:
     """integral V s dlambda (nm) of a spectrum texture in spectral variants; Y(c) of its
     colour in RGB variants; its value in monochrome variants."""
-    values = evaluate_on_grid(texture)
-    if mi.is_spectral:
-        _, V = photopic_efficiency()
-        return float(np.sum(V * values))  # 1 nm steps, V ~ 0 at both ends
-    if mi.is_rgb:
-        return float(np.dot(LUMINANCE_WEIGHTS, values[:3]))
-    return float(values[0])
+    return float(dr.slice(dr.detach(photometric_integral_dr(texture))))
+
+
+def check_luminous_content(texture, plugin: str, name: str = "spectrum") -> float:
+    """integral V s of ``texture``; raises ``ValueError`` naming the parameter when it is
+    not positive (a light of that spectrum would need infinite power per lumen)."""
+    integral = photometric_integral(texture)
+    if not integral > 0.0:
+        raise ValueError(
+            f"{plugin}: parameter '{name}' has no luminous content (integral of "
+            f"V(lambda) s(lambda) is {integral:g}): a light in candela or lumens needs a "
+            "spectrum that the eye can see"
+        )
+    return integral
 
 
 def watts_per_lumen(texture, plugin: str, name: str = "spectrum") -> float:
@@ -99,14 +173,13 @@ def watts_per_lumen(texture, plugin: str, name: str = "spectrum") -> float:
     Raises ``ValueError`` naming the parameter when the spectrum has no luminous content
     (it would need infinite power).
     """
-    integral = photometric_integral(texture)
-    if not integral > 0.0:
-        raise ValueError(
-            f"{plugin}: parameter '{name}' has no luminous content (integral of "
-            f"V(lambda) s(lambda) is {integral:g}): a light in candela or lumens needs a "
-            "spectrum that the eye can see"
-        )
-    return 1.0 / (KM * integral)
+    return 1.0 / (KM * check_luminous_content(texture, plugin, name))
+
+
+def watts_per_lumen_dr(texture) -> mi.Float:
+    """1 / (K_m integral V s) as a differentiable Dr.Jit Float (no check: call
+    :func:`watts_per_lumen` or :func:`check_luminous_content` first)."""
+    return dr.rcp(KM * photometric_integral_dr(texture))
 
 
 def luminous_efficacy(texture) -> float:
@@ -114,4 +187,6 @@ def luminous_efficacy(texture) -> float:
     if not mi.is_spectral:
         raise ValueError("the luminous efficacy of a spectrum needs a spectral variant")
     values = evaluate_on_grid(texture)
-    return KM * photometric_integral(texture) / float(np.sum(values))
+    # trapezoidal rule: s need not vanish at the ends of the range, unlike V
+    integral = float(np.sum(values) - 0.5 * (values[0] + values[-1]))
+    return KM * photometric_integral(texture) / integral

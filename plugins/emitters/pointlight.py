@@ -1,49 +1,84 @@
-"""``pointlight``: an isotropic point light with a choice of distance falloff laws.
+"""``pointlight``: an isotropic point light in W/sr, W, cd or lm, with a choice of distance laws.
 
-A point at ``position`` that emits the radiant intensity I (W/sr) in every direction. A
-surface point at distance r from the light, whose normal makes the angle theta with the
-direction to the light, receives the irradiance
+A point at ``position`` that emits the same radiant intensity I (W/sr) in every direction.
+A surface point at distance r from the light, whose normal makes the angle theta with the
+direction to the light, receives the irradiance E = I falloff(r) cos(theta), so a diffuse
+surface of albedo rho shows the radiance rho / pi * E. With the default
+``inverse_square`` law it renders exactly like Mitsuba's built-in ``point`` emitter
+(same samples, same image up to float rounding) in every variant, and in polarized
+variants it emits unpolarized light (a depolarizing Mueller matrix) as ``point`` does.
+Only ``inverse_square`` is physical: ``ptracer`` (light tracing) always produces 1/r^2.
 
-    E = I * falloff(r) * cos(theta),        falloff(r) = 1 / r^2 by default,
+Parameters
+----------
 
-so a diffuse surface of albedo rho shows the radiance rho / pi * E. With the default
-``inverse_square`` law it renders exactly like Mitsuba's built-in ``point`` emitter (same
-samples, same image up to float rounding).
+======================  =========  ==============  ====  ==========================================
+parameter               type       default         unit  description
+======================  =========  ==============  ====  ==========================================
+``position``            point      (0, 0, 0)       m     position of the light; or give ``to_world``
+                                                         (its translation is used), not both
+                                                         |exposed|
+``to_world``            transform  identity        --    alternative to ``position``
+``intensity``           spectrum   1               W/sr  radiant intensity I (value, tabulated SPD,
+                                                         ``blackbody``, ``d65``, RGB); >= 0
+                                                         |exposed| |differentiable|
+``power``               spectrum   --              W     radiant flux Phi instead of ``intensity``:
+                                                         I = Phi / (4 pi); >= 0 |exposed|
+                                                         |differentiable|
+``luminous_intensity``  float      --              cd    luminous intensity I_v instead; >= 0
+                                                         |exposed| |differentiable|
+``luminous_flux``       float      --              lm    luminous flux Phi_v instead: I_v = Phi_v /
+                                                         (4 pi); >= 0 |exposed| |differentiable|
+``spectrum``            spectrum   d65             --    spectral shape of a light given in cd or lm
+                                                         (its scale does not matter); only with
+                                                         ``luminous_intensity`` or
+                                                         ``luminous_flux`` |exposed|
+                                                         |differentiable|
+``falloff``             string     inverse_square  --    distance law: ``inverse_square``,
+                                                         ``inverse_square_epsilon``,
+                                                         ``polynomial``, ``windowed``, ``none``
+                                                         (see ``spectrace help falloff`` for the
+                                                         laws and their parameters ``epsilon``,
+                                                         ``kc``, ``kl``, ``kq``, ``radius``)
+``sampling_weight``     float      1               --    relative chance that an integrator
+                                                         picks this light to sample
+                                                         (Mitsuba's emitters) |exposed|
+======================  =========  ==============  ====  ==========================================
 
-=============  =================  ===============  ==============================================
-parameter      type               default          meaning
-=============  =================  ===============  ==============================================
-``position``   point              origin           position of the light (or give ``to_world``,
-                                                   whose translation is used; not both)
-``to_world``   transform          identity         alternative to ``position``
-``intensity``  spectrum           1                radiant intensity I in W/sr (any Mitsuba
-                                                   spectrum: value, tabulated SPD, ``blackbody``,
-                                                   ``d65``, RGB); >= 0
-``power``      spectrum           --               radiant flux Phi in W instead of
-                                                   ``intensity``: I = Phi / (4 pi); >= 0
-``falloff``    string             inverse_square   distance law: ``inverse_square``,
-                                                   ``inverse_square_epsilon``, ``polynomial``,
-                                                   ``windowed``, ``none`` (see
-                                                   ``spectrace.plugins.emitters.falloff`` for the
-                                                   laws and their parameters ``epsilon``, ``kc``,
-                                                   ``kl``, ``kq``, ``radius``)
-=============  =================  ===============  ==============================================
+At most one of ``intensity``, ``power``, ``luminous_intensity`` and ``luminous_flux``
+may be given (none: ``intensity`` 1). Lengths are in scene units, metres for the units
+above to hold: 100 cd at 1 m give 100 lux.
 
-``power`` is the lecture's "intensity / (4 pi r^2)": a light of power Phi spreads it over
-the sphere of area 4 pi r^2, E = Phi / (4 pi r^2). Only ``inverse_square`` is physical;
-``ptracer`` (light tracing) always produces 1/r^2.
+Formula
+-------
 
-Differentiable parameters (``mi.traverse``): ``intensity`` (or ``power``). ``position``
-can be changed (non-differentiable).
+::
 
-Sources: M. Pharr, W. Jakob, G. Humphreys, *Physically Based Rendering* (4th ed.),
-section 12.1 "Light Interface / Point Lights"; Mitsuba 3 ``src/emitters/point.cpp``.
+    E(r, theta) = I falloff(r) cos(theta),        falloff(r) = 1 / r^2 by default
+    I = Phi / (4 pi)                               (power: the sphere's 4 pi sr)
+    I = I_v s / (683 integral V s dlambda)         (candela; lumens: I_v = Phi_v / (4 pi))
 
-XML example::
+A light of power Phi spreads it over the sphere of area 4 pi r^2: E = Phi / (4 pi r^2)
+facing the light. In RGB and mono variants the luminous conversion uses the luminance Y
+of the colour s instead of the integral (see ``spectrace help luminous``), so a light in
+cd gives the same lux in every variant.
+
+Sources
+-------
+
+Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed., sec. 12.1
+(point lights) and 4.4.1 (photometry); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3,
+``src/emitters/point.cpp``; CIE (2019), CIE 018:2019 (K_m = 683 lm/W, V(lambda)).
+
+Example
+-------
+
+A 3000 K lamp of 800 lm, 2.4 m above the floor, with OpenGL's attenuation::
 
     <emitter type="pointlight">
-        <point name="position" x="0" y="3" z="0"/>
-        <blackbody name="intensity" temperature="3000"/>
+        <point name="position" x="0" y="2.4" z="0"/>
+        <float name="luminous_flux" value="800"/>
+        <blackbody name="spectrum" temperature="3000"/>
         <string name="falloff" value="polynomial"/>
         <float name="kc" value="1"/>
         <float name="kq" value="0.5"/>
@@ -71,28 +106,40 @@ class PointLight(delta.DeltaLight):
                     f"{PLUGIN}: give either parameter 'position' or parameter 'to_world', "
                     "not both"
                 )
+            if props.type("position") != mi.Properties.Type.Vector:
+                raise ValueError(
+                    f"{PLUGIN}: parameter 'position' must be a point (got a "
+                    f"{falloff.type_name(props, 'position')} {props.as_string('position')})"
+                )
             position = mi.ScalarPoint3f(props.get("position"))
         else:
             to_world = props.get("to_world", mi.ScalarTransform4f())
             position = mi.ScalarPoint3f(to_world.translation())
         self.position = mi.Point3f(position)
-        dr.make_opaque(self.position)
-        self.intensity, self.from_power = falloff.parse_emission(props, PLUGIN)
-        # I = Phi / (4 pi): a constant folded into the kernels.
-        self.scale = 1.0 / falloff.FOUR_PI if self.from_power else None
+        self._init_emission(props, PLUGIN)
         self.law = falloff.parse_falloff(props, PLUGIN)
         self.m_flags = mi.EmitterFlags.DeltaPosition
         self.m_needs_sample_3 = False
+        self._update()
 
     # -- parameters ---------------------------------------------------------------------
 
+    def _update(self):
+        """Recompute the emission scale (I = Phi / (4 pi) for a flux; W per lumen for a
+        luminous light) from the traversed parameters, which are never rebound."""
+        self.scale = self._emission_scale(falloff.FOUR_PI)
+        dr.make_opaque(self.position)
+        if self.luminous is not None:
+            dr.make_opaque(self.scale)
+
     def traverse(self, callback):
         callback.put("position", self.position, mi.ParamFlags.NonDifferentiable)
-        callback.put(self.emission_name, self.intensity, mi.ParamFlags.Differentiable)
+        self._traverse_emission(callback)
 
     def parameters_changed(self, keys):
         # Update in place: mi.traverse holds references to the traversed arrays.
-        dr.make_opaque(self.position)
+        self._check_emission()
+        self._update()
 
     # -- helpers ------------------------------------------------------------------------
 
@@ -108,15 +155,15 @@ class PointLight(delta.DeltaLight):
         ray = mi.Ray3f(
             self.position, mi.warp.square_to_uniform_sphere(sample3), time, wavelengths
         )
-        return ray, weight * falloff.FOUR_PI
+        return ray, self._out(weight * falloff.FOUR_PI)
 
     def sample_direction(self, it, sample, active=True):
         ds, dist2 = self._direction_sample(it)
-        return ds, self._intensity(it.wavelengths, active) * self.law(dist2)
+        return ds, self._out(self._intensity(it.wavelengths, active) * self.law(dist2))
 
     def eval_direction(self, it, ds, active=True):
         dist2 = dr.squared_norm(ds.p - it.p)
-        return self._intensity(it.wavelengths, active) * self.law(dist2)
+        return self._out(self._intensity(it.wavelengths, active) * self.law(dist2))
 
     def sample_position(self, time, sample, active=True):
         return self._position_sample(time), mi.Float(1.0)
@@ -124,7 +171,7 @@ class PointLight(delta.DeltaLight):
     def to_string(self):
         return (
             f"PointLight[position={self.position}, "
-            f"{self.emission_name}={self.intensity}, "
+            f"{self._emission_string()}, "
             f"falloff={self.law!r}]"
         )
 

@@ -1,75 +1,108 @@
-"""``spotlight``: a spot light with umbra and penumbra, a choice of cone and distance laws.
+"""``spotlight``: a spot light with umbra and penumbra, in W/sr, W, cd or lm.
 
-A point at the origin of ``to_world`` that emits along its local +Z axis. In the
-direction at the angle alpha from the axis its radiant intensity is
+A point at the origin of ``to_world`` that emits along its local +Z axis, full intensity
+inside the penumbra half-angle, none outside the umbra half-angle and blended in between
+by a ``cone_falloff`` law; an optional ``texture`` (gobo) is projected like a slide. A
+surface point at distance r whose normal makes the angle theta with the direction to the
+light receives E = I(alpha) falloff(r) cos(theta), with the distance laws of
+``pointlight``. With ``cone_falloff`` = ``linear_angle`` and the default distance law it
+renders like Mitsuba's built-in ``spot`` (``cutoff_angle`` = ``umbra_angle``,
+``beam_width`` = ``penumbra_angle``; those two names are refused here, with a pointer to
+ours) in every variant, unpolarized (a depolarizing Mueller matrix) in polarized ones.
 
-    I(alpha) = I0 * cone(alpha) * gobo(alpha),
+Parameters
+----------
 
-full (cone = 1) inside the penumbra half-angle, zero outside the umbra half-angle and
-blended in between by the ``cone_falloff`` law of
+======================  =========  ==============  =======  =====================================
+parameter               type       default         unit     description
+======================  =========  ==============  =======  =====================================
+``to_world``            transform  identity        --       placement; the light shines along
+                                                            local +Z (use ``lookat``) |exposed|
+``intensity``           spectrum   1               W/sr     on-axis radiant intensity I0 (value,
+                                                            tabulated SPD, ``blackbody``,
+                                                            ``d65``, RGB); >= 0 |exposed|
+                                                            |differentiable|
+``power``               spectrum   --              W        radiant flux Phi of the cone instead:
+                                                            I0 = Phi / Omega (the gobo is not
+                                                            counted); >= 0 |exposed|
+                                                            |differentiable|
+``luminous_intensity``  float      --              cd       on-axis luminous intensity instead;
+                                                            >= 0 |exposed| |differentiable|
+``luminous_flux``       float      --              lm       luminous flux of the cone with its
+                                                            falloff instead: I0_v = Phi_v /
+                                                            Omega; >= 0 |exposed|
+                                                            |differentiable|
+``spectrum``            spectrum   d65             --       spectral shape of a light in cd or lm
+                                                            (its scale does not matter); only
+                                                            with ``luminous_intensity`` or
+                                                            ``luminous_flux`` |exposed|
+                                                            |differentiable|
+``umbra_angle``         float      30              degrees  outer half-angle u, in (0, 90]: no
+                                                            light outside |exposed|
+                                                            |differentiable| |discontinuous|
+``penumbra_angle``      float      20              degrees  inner half-angle p, in (0, u]: full
+                                                            intensity inside |exposed|
+                                                            |differentiable|
+``cone_falloff``        string     quadratic       --       ``quadratic``, ``smoothstep`` or
+                                                            ``linear_angle`` (below)
+``falloff``             string     inverse_square  --       distance law and its parameters, as
+                                                            for ``pointlight`` (see ``spectrace
+                                                            help falloff``)
+``texture``             texture    none            --       gobo: a texture projected like a
+                                                            slide; its [0, 1]^2 uv square spans
+                                                            the umbra cone's tangent plane at
+                                                            z = 1 (as the built-in ``spot``);
+                                                            its own parameters say which are
+                                                            differentiable |exposed|
+``sampling_weight``     float      1               --       relative chance that an integrator
+                                                            picks this light to sample
+                                                            (Mitsuba's emitters) |exposed|
+======================  =========  ==============  =======  =====================================
 
-    t = clamp((cos alpha - cos umbra) / (cos penumbra - cos umbra), 0, 1):
+At most one of ``intensity``, ``power``, ``luminous_intensity`` and ``luminous_flux``
+may be given (none: ``intensity`` 1). Lengths in metres for the photometric units to hold.
 
-====================  ====================================================  ==================
-``cone_falloff``      cone(alpha) between penumbra and umbra                source
-====================  ====================================================  ==================
-``quadratic``         t^2  (default)                                        the lecture
-``smoothstep``        3 t^2 - 2 t^3                                         pbrt-v4 SpotLight
-``linear_angle``      (umbra - alpha) / (umbra - penumbra), linear in the   Mitsuba's ``spot``
-                      angle itself
-====================  ====================================================  ==================
+Formula
+-------
 
-A surface point at distance r whose normal makes the angle theta with the direction to
-the light receives the irradiance E = I(alpha) * falloff(r) * cos(theta), with the distance
-laws of the point light (``falloff``, default 1/r^2). With ``cone_falloff=linear_angle``
-and the default distance law it renders like Mitsuba's built-in ``spot`` with
-``cutoff_angle`` = ``umbra_angle`` and ``beam_width`` = ``penumbra_angle``.
+In the direction at the angle alpha from the axis, with
+t = clamp((cos alpha - cos u) / (cos p - cos u), 0, 1)::
 
-==================  =========  ==============  ==================================================
-parameter           type       default         meaning
-==================  =========  ==============  ==================================================
-``to_world``        transform  identity        placement; the light shines along local +Z
-                                               (use ``look_at``)
-``intensity``       spectrum   1               on-axis radiant intensity I0 in W/sr (value,
-                                               SPD, ``blackbody``, ``d65``, RGB); >= 0
-``power``           spectrum   --              radiant flux Phi in W instead of ``intensity``:
-                                               I0 = Phi / Omega, Omega the integral of cone()
-                                               over the sphere (below); the gobo is not counted
-``umbra_angle``     float      30              outer half-angle in degrees, in (0, 90]: no light
-                                               outside
-``penumbra_angle``  float      20              inner half-angle in degrees, in (0, umbra]: full
-                                               intensity inside
-``cone_falloff``    string     quadratic       ``quadratic``, ``smoothstep`` or ``linear_angle``
-``falloff``         string     inverse_square  distance law and its parameters, as for
-                                               ``pointlight`` (``inverse_square``,
-                                               ``inverse_square_epsilon``, ``polynomial``,
-                                               ``windowed``, ``none``)
-``texture``         texture    none            gobo: a texture projected like a slide; its
-                                               [0, 1]^2 uv square spans the umbra cone's
-                                               tangent plane at z = 1 (as the built-in ``spot``)
-==================  =========  ==============  ==================================================
+    I(alpha) = I0 cone(alpha) gobo(alpha)
+    cone = t^2                                (quadratic, the default)
+    cone = 3 t^2 - 2 t^3                      (smoothstep, as pbrt-v4)
+    cone = clamp((u - alpha) / (u - p), 0, 1)  (linear_angle, as Mitsuba's spot; 0 beyond u)
 
-Solid angle Omega = integral of cone(alpha) over the sphere, with p, u the penumbra and
-umbra half-angles: 2 pi [(1 - cos p) + (cos p - cos u) c] with c = 1/3 (``quadratic``,
-the integral of t^2 dt since t is linear in cos alpha) or 1/2 (``smoothstep``), and
-2 pi [1 - (sin u - sin p) / (u - p)] for ``linear_angle``.
+The solid angle Omega = integral of cone(alpha) over the sphere, which turns a flux into
+I0, is 2 pi [(1 - cos p) + (cos p - cos u) c] with c = 1/3 (``quadratic``: t is linear in
+cos alpha) or 1/2 (``smoothstep``), and 2 pi [1 - (sin u - sin p) / (u - p)] for
+``linear_angle``. Luminous quantities become radiant ones as for ``pointlight``:
+I0 = I0_v s / (683 integral V s dlambda) (see ``spectrace help luminous``).
 
-``sample_ray`` (light tracing) samples directions uniformly in the umbra cone as the built-in
-does. Only the ``inverse_square`` law is physical: ``ptracer`` always produces 1/r^2.
-Differentiable parameters (``mi.traverse``): ``intensity`` (or ``power``), ``umbra_angle``,
-``penumbra_angle``, ``texture``; ``to_world`` can be changed (non-differentiable).
-``parameters_changed`` recomputes the cached cosines.
+``sample_ray`` (light tracing) draws directions uniformly in the umbra cone as the built-in
+does; with a gobo, wavelengths are drawn from the texture's spectral density and
+``pdf_wavelengths`` reports that density. Changing ``umbra_angle``, ``penumbra_angle`` or
+the luminous value through ``mi.traverse`` recomputes the cached cosines and Omega.
 
-Sources: pbrt-v4 (M. Pharr, W. Jakob, G. Humphreys, *Physically Based Rendering*, 4th ed.,
-section 12.2.1 "Spotlights"); Mitsuba 3 ``src/emitters/spot.cpp``.
+Sources
+-------
 
-XML example::
+Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed., sec. 12.2.1
+(spotlights, smoothstep falloff); Segal, Akeley (2006), *The OpenGL Graphics System 1.x
+Specification*, sec. 2.14.1 (spot cut-off and exponent, the quadratic penumbra's
+ancestor); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3, ``src/emitters/spot.cpp``.
+
+Example
+-------
+
+A 1000 lm stage spot aimed at the origin from 4 m, smoothstep edge::
 
     <emitter type="spotlight">
         <transform name="to_world">
             <lookat origin="0, 4, 0" target="0, 0, 0" up="0, 0, 1"/>
         </transform>
-        <float name="intensity" value="20"/>
+        <float name="luminous_flux" value="1000"/>
+        <blackbody name="spectrum" temperature="3200"/>
         <float name="umbra_angle" value="35"/>
         <float name="penumbra_angle" value="25"/>
         <string name="cone_falloff" value="smoothstep"/>
@@ -81,16 +114,20 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
-from spectrace.plugins.emitters import delta, falloff
+from spectrace.plugins.emitters import delta, falloff, luminous
 
 PLUGIN = "spotlight"
 #: Smallest cos(penumbra) - cos(umbra) and umbra - penumbra (rad) used as a divisor: a
 #: hard-edged cone when the two angles are equal.
 MIN_WIDTH = 1e-7
+#: Parameters of Mitsuba's built-in ``spot`` and the names spotlight gives them.
+MITSUBA_SPOT_PARAMETERS = {"cutoff_angle": "umbra_angle", "beam_width": "penumbra_angle"}
+ANGLE_MEANINGS = {"umbra_angle": "the outer half-angle, no light outside",
+                  "penumbra_angle": "the inner half-angle, full intensity inside"}
 
 
 class Quadratic:
-    """t^2: the lecture's penumbra."""
+    """t^2: the quadratic penumbra (the default)."""
 
     @staticmethod
     def profile(light, cos_alpha):
@@ -134,6 +171,27 @@ class LinearAngle:
         return dr.two_pi * (1.0 - mean)
 
 
+def has_pdf_spectrum(texture) -> bool:
+    """Whether ``texture`` implements ``pdf_spectrum`` (Mitsuba's ``bitmap`` does not: its
+    ``sample_spectrum`` is Texture's default, uniform over [MI_CIE_MIN, MI_CIE_MAX])."""
+    if not mi.is_spectral:
+        return True
+    try:
+        texture.pdf_spectrum(luminous.grid_interaction())
+    except RuntimeError as error:
+        if "not implemented" in str(error):
+            return False
+        raise
+    return True
+
+
+def uniform_wavelength_pdf(wavelengths):
+    """The density of Mitsuba's default ``Texture::sample_spectrum``: uniform over
+    [MI_CIE_MIN, MI_CIE_MAX] nm."""
+    inside = (wavelengths >= mi.MI_CIE_MIN) & (wavelengths <= mi.MI_CIE_MAX)
+    return dr.select(inside, 1.0 / (mi.MI_CIE_MAX - mi.MI_CIE_MIN), 0.0)
+
+
 #: The one mapping from ``cone_falloff`` to its law.
 CONE_FALLOFFS = {
     "quadratic": Quadratic,
@@ -148,7 +206,13 @@ class SpotLight(delta.DeltaLight):
     def __init__(self, props):
         mi.Emitter.__init__(self, props)
         self.to_world = falloff.parse_to_world(props)
-        self.intensity, self.from_power = falloff.parse_emission(props, PLUGIN)
+        for name, ours in MITSUBA_SPOT_PARAMETERS.items():
+            if name in props:
+                raise ValueError(
+                    f"{PLUGIN}: parameter '{name}' is Mitsuba's spot's; spotlight calls it "
+                    f"'{ours}' ({ANGLE_MEANINGS[ours]}, in degrees)"
+                )
+        self._init_emission(props, PLUGIN)
         umbra = falloff.parse_angle(props, PLUGIN, "umbra_angle", 30.0)
         penumbra = falloff.parse_angle(props, PLUGIN, "penumbra_angle", 20.0)
         if penumbra > umbra:
@@ -156,16 +220,12 @@ class SpotLight(delta.DeltaLight):
                 f"{PLUGIN}: parameter 'penumbra_angle' must be <= umbra_angle "
                 f"(got penumbra_angle={penumbra}, umbra_angle={umbra})"
             )
-        cone_name = props.get("cone_falloff", "quadratic")
-        self.cone = CONE_FALLOFFS.get(cone_name)
-        if self.cone is None:
-            raise ValueError(
-                f"{PLUGIN}: parameter 'cone_falloff' must be one of "
-                f"{', '.join(CONE_FALLOFFS)} (got {cone_name!r})"
-            )
-        self.cone_name = cone_name
+        self.cone_name = falloff.read_choice(props, PLUGIN, "cone_falloff", "quadratic",
+                                             CONE_FALLOFFS)
+        self.cone = CONE_FALLOFFS[self.cone_name]
         self.law = falloff.parse_falloff(props, PLUGIN)
         self.texture = props.get_texture("texture") if "texture" in props else None
+        self.gobo_has_pdf = self.texture is not None and has_pdf_spectrum(self.texture)
         self.umbra_angle = mi.Float(umbra)
         self.penumbra_angle = mi.Float(penumbra)
         flags = mi.EmitterFlags.DeltaPosition
@@ -188,7 +248,7 @@ class SpotLight(delta.DeltaLight):
         self.inv_cos_width = dr.rcp(dr.maximum(self.cos_penumbra - self.cos_umbra, MIN_WIDTH))
         self.inv_angle_width = dr.rcp(dr.maximum(self.umbra_rad - self.penumbra_rad, MIN_WIDTH))
         self.uv_factor = dr.tan(self.umbra_rad)
-        self.scale = dr.rcp(self.cone.solid_angle(self)) if self.from_power else None
+        self.scale = self._emission_scale(self.cone.solid_angle(self))
         dr.make_opaque(
             self.to_world, self.to_local, self.position, self.umbra_rad, self.penumbra_rad,
             self.cos_umbra, self.cos_penumbra, self.inv_cos_width, self.inv_angle_width,
@@ -198,7 +258,7 @@ class SpotLight(delta.DeltaLight):
             dr.make_opaque(self.scale)
 
     def traverse(self, callback):
-        callback.put(self.emission_name, self.intensity, mi.ParamFlags.Differentiable)
+        self._traverse_emission(callback)
         if self.texture is not None:
             callback.put("texture", self.texture, mi.ParamFlags.Differentiable)
         callback.put("umbra_angle", self.umbra_angle, mi.ParamFlags.Differentiable)
@@ -212,6 +272,7 @@ class SpotLight(delta.DeltaLight):
                 f"{PLUGIN}: parameters 'umbra_angle' and 'penumbra_angle' must satisfy "
                 f"0 < penumbra_angle <= umbra_angle <= 90 (got {penumbra}, {umbra})"
             )
+        self._check_emission()
         self._update()
 
     # -- helpers ------------------------------------------------------------------------
@@ -246,18 +307,19 @@ class SpotLight(delta.DeltaLight):
         wavelengths, weight = self.sample_wavelengths(si, wavelength_sample, active)
         cone = self.cone.profile(self, local_d.z)
         ray = mi.Ray3f(self.position, self.to_world @ local_d, time, wavelengths)
-        return ray, weight * (cone / pdf)
+        return ray, self._out(weight * (cone / pdf))
 
     def sample_direction(self, it, sample, active=True):
         ds, dist2 = self._direction_sample(it)
         local_d = self.to_local @ (-ds.d)
-        return ds, self._emitted(local_d, it.wavelengths, it.time, active) * self.law(dist2)
+        value = self._emitted(local_d, it.wavelengths, it.time, active) * self.law(dist2)
+        return ds, self._out(value)
 
     def eval_direction(self, it, ds, active=True):
         d = mi.Vector3f(it.p - ds.p)  # (Point3f - Point3f is a Point3f in Mitsuba's Python)
         local_d = self.to_local @ d
         value = self._emitted(local_d, it.wavelengths, it.time, active)
-        return value * self.law(dr.squared_norm(d))
+        return self._out(value * self.law(dr.squared_norm(d)))
 
     def sample_position(self, time, sample, active=True):
         ps = self._position_sample(time)
@@ -276,10 +338,19 @@ class SpotLight(delta.DeltaLight):
         si.wavelengths = wavelengths
         return wavelengths, weight * self.intensity.eval(si, active)
 
+    def pdf_wavelengths(self, wavelengths, active=True):
+        """The density ``sample_wavelengths`` draws from: the gobo texture's when there is
+        one (as ``_sample_spectrum``), the emitted spectrum's otherwise."""
+        if self.texture is None:
+            return super().pdf_wavelengths(wavelengths, active)
+        if self.gobo_has_pdf:
+            return self.texture.pdf_spectrum(self._spectral_si(wavelengths), active)
+        return uniform_wavelength_pdf(wavelengths)
+
     def to_string(self):
         return (
             f"SpotLight[to_world={self.to_world}, "
-            f"{self.emission_name}={self.intensity}, "
+            f"{self._emission_string()}, "
             f"umbra_angle={self.umbra_angle}, penumbra_angle={self.penumbra_angle}, "
             f"cone_falloff={self.cone_name}, falloff={self.law!r}, texture={self.texture}]"
         )

@@ -132,7 +132,7 @@ def wavelength_grid(n: int):
     si = dr.zeros(mi.SurfaceInteraction3f, n)
     if mi.is_spectral:
         w = dr.linspace(mi.Float, 400.0, 700.0, n)
-        si.wavelengths = mi.Spectrum(w, w, w, w)
+        si.wavelengths = mi.UnpolarizedSpectrum(w)
     return si
 
 
@@ -171,3 +171,145 @@ def sphere_quadrature(n_theta: int, n_phi: int):
     d = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1).reshape(-1, 3)
     w = np.full(d.shape[0], 4.0 * np.pi / (n_theta * n_phi))
     return d, w
+
+
+#: integral of Mitsuba's CIE 1931 ybar over 360-830 nm (nm): the normalisation of the
+#: spectral film's Y (a constant spectrum of radiance 1 has Y = 1).
+CIE_Y_INTEGRAL = 106.856895
+#: K_m (lm/W), written here as the oracle's own constant (CIE 018:2019).
+KM = 683.0
+
+
+def lux_from_film_y(Y):
+    """Illuminance (lux) on the diffuse plane of albedo RHO from the film's luminance Y of
+    the plane's radiance, read with Mitsuba's own films (no spectrace code).
+
+    Derivation: the plane is Lambertian, so its radiance is L(lambda) = RHO / pi *
+    E(lambda), E the spectral irradiance. The illuminance is E_v = K_m integral V E dlambda
+    = (pi / RHO) K_m integral V L dlambda. Spectral variants: the film's Y is
+    integral L ybar dlambda / integral ybar dlambda with ybar = V (CIE 1931 ybar is the
+    CIE 1924 V), so integral V L = CIE_Y_INTEGRAL * Y and E_v = (pi / RHO) K_m
+    CIE_Y_INTEGRAL Y. RGB variants: Y = 0.2126 R + 0.7152 G + 0.0722 B of the linear
+    sRGB radiance, and the photometric convention of RGB rendering is E_v = K_m Y(E), so
+    E_v = (pi / RHO) K_m Y. Mono variants: Y is the one value, E_v = (pi / RHO) K_m Y.
+    """
+    import mitsuba as mi
+
+    return np.pi / RHO * KM * (CIE_Y_INTEGRAL if mi.is_spectral else 1.0) * np.asarray(Y)
+
+
+def lux_at(light: dict, point, spp: int, seed: int = 0) -> float:
+    """Illuminance (lux) that ``light`` gives at ``point`` = (x, z) of the plane y = 0,
+    measured by a ``radiancemeter`` looking straight down at it (every sample on the same
+    ray, so only the wavelengths vary) whose film gives the luminance Y."""
+    import mitsuba as mi
+
+    scene = plane_scene(light)
+    scene["sensor"] = {
+        "type": "radiancemeter", "origin": [point[0], 0.5, point[1]], "direction": [0, -1, 0],
+        "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "luminance",
+                 "rfilter": {"type": "box"}},
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
+    Y = np.array(mi.render(mi.load_dict(scene), seed=seed), dtype=np.float64).ravel()[0]
+    return float(lux_from_film_y(Y))
+
+
+def plane_lux(light: dict, spp: int, res: int = RES, seed: int = 0) -> np.ndarray:
+    """Illuminance (lux) on the plane y = 0 per pixel of the orthographic view from above,
+    (res, res): each pixel the mean over its square of side 2 HALF_WIDTH / res (independent
+    samples, box filter), so the sum times the pixel area is the luminous flux received."""
+    import mitsuba as mi
+
+    scene = plane_scene(light, spp=max(spp, 2), res=res)
+    scene["sensor"]["sampler"] = {"type": "independent", "sample_count": spp}
+    scene["sensor"]["film"]["pixel_format"] = "luminance"
+    Y = np.array(mi.render(mi.load_dict(scene), seed=seed), dtype=np.float64)[..., 0]
+    return lux_from_film_y(Y)
+
+
+def pixel_area(res: int = RES) -> float:
+    """Area (m^2) of the plane seen by one pixel of the orthographic view."""
+    return (2.0 * HALF_WIDTH / res) ** 2
+
+
+#: The columns of every parameter table, and the marks a description may end with.
+PAGE_COLUMNS = ["parameter", "type", "default", "unit", "description"]
+PAGE_MARKS = {"exposed", "differentiable", "discontinuous"}
+PAGE_SECTIONS = ["Parameters", "Formula", "Sources", "Example"]
+
+
+def parse_reference_page(doc: str, name: str) -> dict[str, dict]:
+    """Check that ``doc`` follows the one format of the plugin reference pages and return
+    its parameter table as {parameter: {"type", "default", "unit", "description",
+    "marks"}}.
+
+    The format: first line "``name``: summary."; sections underlined with '-' named
+    Parameters, Formula, Sources, Example in this order; Parameters opens with ONE
+    reStructuredText simple table with exactly PAGE_COLUMNS, no cell text crossing a
+    column gap (descriptions may continue on rows whose first cells are empty), marks
+    among PAGE_MARKS; Example holds a literal block (``::``) of XML; no reference to
+    material users do not have.
+    """
+    import re
+
+    lines = doc.splitlines()
+    assert re.fullmatch(rf"``{name}``: \S.*\.", lines[0]), lines[0]
+    titles = [(i, lines[i]) for i in range(len(lines) - 1)
+              if lines[i] and set(lines[i + 1]) == {"-"} and len(lines[i + 1]) == len(lines[i])]
+    assert [t for _, t in titles] == PAGE_SECTIONS, titles
+    assert "lecture" not in doc.lower() and "DESIGN" not in doc
+    start = titles[0][0] + 2
+    body = lines[start:titles[1][0]]
+    while body and not body[0].strip():
+        body.pop(0)
+    border = body[0]
+    assert re.fullmatch(r"=+( {2,}=+)+", border), border
+    spans = [m.span() for m in re.finditer(r"=+", border)]
+    assert len(spans) == len(PAGE_COLUMNS)
+    borders = [i for i, line in enumerate(body) if line == border]
+    assert len(borders) == 3 and borders[:2] == [0, 2], "one simple table, one header row"
+    assert sum(1 for line in body if re.fullmatch(r"=+( {2,}=+)+", line)) == 3
+
+    def cells(line: str) -> list[str]:
+        for (_, end), (begin, _) in zip(spans[:-1], spans[1:], strict=True):
+            assert line[end:begin].strip() == "", f"text crosses a column gap: {line!r}"
+        return [line[a:b if k < len(spans) - 1 else None].strip()
+                for k, (a, b) in enumerate(spans)]
+
+    assert cells(body[1]) == PAGE_COLUMNS
+    table: dict[str, dict] = {}
+    current = None
+    for line in body[3:borders[2]]:
+        row = cells(line)
+        if row[0]:
+            match = re.fullmatch(r"``(\w+)``", row[0])
+            assert match, row[0]
+            entry = dict(zip(PAGE_COLUMNS[1:], row[1:], strict=True))
+            current = table.setdefault(match.group(1), entry)
+        else:
+            assert current is not None and not any(row[1:4]), line
+            current["description"] += " " + row[4]
+    for entry in table.values():
+        marks = re.findall(r"\|(\w+)\|", entry["description"])
+        assert set(marks) <= PAGE_MARKS, marks
+        entry["marks"] = set(marks)
+    example = "\n".join(lines[titles[3][0] + 2:])
+    assert "::" in example and "<" in example.split("::", 1)[1]
+    return table
+
+
+def check_marks_against_traverse(table: dict, plugin) -> None:
+    """Every parameter that ``mi.traverse(plugin)`` lists is marked |exposed| in the page,
+    and marked |differentiable| exactly when traverse says it is."""
+    import mitsuba as mi
+
+    params = mi.traverse(plugin)
+    names = {key.split(".")[0] for key in params.keys()}
+    for name in names:
+        assert name in table, f"{name} is exposed but not in the page"
+        assert "exposed" in table[name]["marks"], name
+        keys = [k for k in params.keys() if k.split(".")[0] == name]
+        differentiable = any(
+            not params.flags(k) & int(mi.ParamFlags.NonDifferentiable) for k in keys)
+        assert differentiable == ("differentiable" in table[name]["marks"]), name

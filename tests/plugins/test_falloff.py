@@ -123,3 +123,54 @@ def test_falloff_laws_scene_renders(variant):
     laws = {str(e).split("falloff=")[1].split("(")[0].rstrip("]")
             for e in scene.emitters()}
     assert laws == set(LAWS)
+
+
+def test_reference_page():
+    """The module docstring of ``falloff`` follows the one reference-page format and
+    lists every law's parameters."""
+    from spectrace.plugins.emitters import falloff
+
+    table = checks.parse_reference_page(falloff.__doc__, "falloff")
+    assert set(table) == {"falloff", "epsilon", "kc", "kl", "kq", "radius"}
+    assert all(name in table["falloff"]["description"] for name in LAWS)
+
+
+WRONG_TYPES = [
+    ({"falloff": "windowed", "radius": "far"}, "'radius' must be a float (got a string"),
+    ({"falloff": "polynomial", "kq": "1"}, "'kq' must be a float (got a string"),
+    ({"falloff": 2.0}, "'falloff' must be one of inverse_square,"),
+    ({"umbra_angle": "wide"}, "'umbra_angle' must be a float (got a string"),
+    ({"cone_falloff": 1.0}, "'cone_falloff' must be one of quadratic,"),
+]
+
+
+@pytest.mark.parametrize(("params", "message"), WRONG_TYPES)
+def test_wrong_xml_type_fails_in_one_line(variant_rgb, params, message):
+    """A value of the wrong XML type (a string where a float belongs, a float where a law
+    is named) is never converted: one line names the parameter, what was expected and
+    what came."""
+    import mitsuba as mi
+
+    plugin = "spotlight" if any("cone" in k or "umbra" in k for k in params) else "pointlight"
+    with pytest.raises(Exception) as info:
+        mi.load_dict({"type": plugin, **params})
+    line = next(l for l in str(info.value).splitlines() if f"{plugin}: " in l)
+    assert message in line, line
+
+
+def test_integer_distances_are_accepted(variant_rgb):
+    """An ``<integer>`` where a float belongs is accepted as Mitsuba accepts it: radius 3
+    as an integer gives the same light as radius 3.0."""
+    import mitsuba as mi
+
+    a = mi.load_dict({"type": "pointlight", "falloff": "windowed", "radius": 3})
+    b = mi.load_dict({"type": "pointlight", "falloff": "windowed", "radius": 3.0})
+    assert str(a) == str(b)
+
+
+def test_position_must_be_a_point(variant_rgb):
+    """``position`` given as a float (which Mitsuba would broadcast to (v, v, v)) fails."""
+    import mitsuba as mi
+
+    with pytest.raises(Exception, match="'position' must be a point"):
+        mi.load_dict({"type": "pointlight", "position": 1.0})

@@ -19,7 +19,9 @@ INTEGRATORS = ["path", "direct", "ptracer", "prb"]
 
 
 def intensities(variant: str) -> dict:
-    """The kinds of spectra the light takes: value, RGB, d65, tabulated SPD, blackbody."""
+    """The kinds of spectra the light takes: value, RGB, d65, tabulated SPD, blackbody
+    (all of them in the RGB and spectral variants; value and SPD in the mono and polarized
+    ones, to keep the suite fast)."""
     kinds = {
         "value": 4.0,
         "rgb": {"type": "rgb", "value": [3.0, 2.0, 0.5]},
@@ -28,6 +30,8 @@ def intensities(variant: str) -> dict:
     }
     if variant == "llvm_ad_spectral":
         kinds["blackbody"] = {"type": "blackbody", "temperature": 3000.0}
+    if variant not in ("llvm_ad_rgb", "llvm_ad_spectral"):
+        kinds = {name: kinds[name] for name in ("value", "spd")}
     return kinds
 
 
@@ -39,12 +43,14 @@ def scene_with_sphere(light: dict, integrator: str) -> dict:
 
 
 @pytest.mark.parametrize("integrator", INTEGRATORS)
-def test_matches_builtin_point(variant, integrator):
+def test_matches_builtin_point(any_variant, integrator):
     """With the default 1/r^2 law the plugin renders exactly like Mitsuba's ``point``
-    (same seed, same image up to float rounding), for every kind of spectrum."""
+    (same seed, same image up to float rounding), for every kind of spectrum, in every
+    variant (RGB, mono, spectral, and the polarized ones, where the light emits a
+    depolarizing Mueller matrix)."""
     import mitsuba as mi
 
-    for name, intensity in intensities(variant).items():
+    for name, intensity in intensities(any_variant).items():
         if name == "blackbody" and integrator == "ptracer":
             continue  # Mitsuba's blackbody cannot be sampled in ptracer's symbolic loop
         images = []
@@ -56,6 +62,30 @@ def test_matches_builtin_point(variant, integrator):
         assert reference.max() > 0.0, name
         np.testing.assert_allclose(image, reference, rtol=RTOL_SAME,
                                    atol=RTOL_SAME * reference.max(), err_msg=name)
+
+
+def test_sample_direction_matches_builtin_in_every_variant(any_variant):
+    """``sample_direction``, ``eval_direction`` and ``sample_ray`` return what Mitsuba's
+    ``point`` returns, value for value: in polarized variants the same depolarizing Mueller
+    matrix (only its (0, 0) entry is non-zero), elsewhere the same spectrum."""
+    import drjit as dr
+    import mitsuba as mi
+
+    spd = {"type": "spectrum", "value": [(400.0, 1.0), (550.0, 3.0), (700.0, 2.0)]}
+    ours, builtin = (mi.load_dict({"type": plugin, "position": list(P_LIGHT), "intensity": spd})
+                     for plugin in ("pointlight", "point"))
+    it = dr.zeros(mi.Interaction3f, 3)
+    it.p = mi.Point3f([0.0, 1.0, -1.0], [0.0, 0.0, 0.5], [0.0, 2.0, 0.0])
+    it.wavelengths = checks.wavelength_grid(3).wavelengths
+    ds, value = ours.sample_direction(it, mi.Point2f(0.3, 0.7))
+    ds_ref, value_ref = builtin.sample_direction(it, mi.Point2f(0.3, 0.7))
+    assert type(value) is type(value_ref) is mi.Spectrum
+    np.testing.assert_allclose(np.array(value), np.array(value_ref), rtol=1e-6, atol=1e-12)
+    np.testing.assert_allclose(np.array(ours.eval_direction(it, ds)), np.array(value_ref),
+                               rtol=1e-6, atol=1e-12)
+    _, weight = ours.sample_ray(0.0, 0.4, mi.Point2f(0.5), mi.Point2f(0.2, 0.9))
+    _, weight_ref = builtin.sample_ray(0.0, 0.4, mi.Point2f(0.5), mi.Point2f(0.2, 0.9))
+    np.testing.assert_allclose(np.array(weight), np.array(weight_ref), rtol=1e-5, atol=1e-12)
 
 
 def test_power_is_intensity_integrated_over_sphere(variant):
@@ -195,3 +225,23 @@ def test_traverse_intensity_differentiable_and_position_updatable(variant_rgb):
     ds, value = light.sample_direction(it, mi.Point2f(0.5))
     np.testing.assert_allclose(float(dr.detach(value)[0][0]), 3.0, rtol=1e-6)
     assert list(light.bbox().min) == [0.0, 1.0, 0.0]
+
+
+def test_reference_page(variant_rgb):
+    """The module docstrings of ``pointlight`` and of its helper ``delta`` follow the one
+    reference-page format (table columns, sections, marks), and the |exposed| /
+    |differentiable| marks agree with what mi.traverse reports for each way of giving the
+    emission."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import delta, pointlight
+
+    checks.parse_reference_page(delta.__doc__, "delta")
+    table = checks.parse_reference_page(pointlight.__doc__, "pointlight")
+    assert {"intensity", "power", "luminous_intensity", "luminous_flux", "spectrum",
+            "position", "falloff"} <= set(table)
+    assert table["luminous_intensity"]["unit"] == "cd"
+    assert table["luminous_flux"]["unit"] == "lm"
+    for emission in ({"intensity": 2.0}, {"power": 2.0}, {"luminous_intensity": 2.0},
+                     {"luminous_flux": 2.0}):
+        light = mi.load_dict({"type": "pointlight", **emission})
+        checks.check_marks_against_traverse(table, light)

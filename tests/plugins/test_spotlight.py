@@ -113,14 +113,17 @@ def test_hard_edge_when_penumbra_equals_umbra(variant_rgb, plane_positions):
 
 
 @pytest.mark.parametrize("integrator", ["path", "direct", "ptracer", "prb"])
-def test_linear_angle_matches_builtin_spot(variant, integrator):
+def test_linear_angle_matches_builtin_spot(any_variant, integrator):
     """``cone_falloff=linear_angle`` renders like Mitsuba's ``spot`` (cutoff_angle = umbra,
-    beam_width = penumbra), with and without a gobo texture, same seed, same image."""
+    beam_width = penumbra), with and without a gobo texture, same seed, same image, in
+    every variant (RGB intensity: RGB and spectral variants only, to keep it fast)."""
     import mitsuba as mi
 
     texture = {"type": "bitmap", "filename": str(GOBO)}
     cases = {"plain": {}, "gobo": {"texture": texture},
              "rgb": {"intensity": {"type": "rgb", "value": [3.0, 1.0, 0.5]}}}
+    if any_variant not in ("llvm_ad_rgb", "llvm_ad_spectral"):
+        del cases["rgb"]
     for name, extra in cases.items():
         images = []
         for light in (builtin_spot(**extra), spot("linear_angle", **extra)):
@@ -165,7 +168,7 @@ def angle_quadrature(penumbra: float, umbra: float, order: int = 48):
     x, w = np.polynomial.legendre.leggauss(order)
     edges = [0.0, np.radians(penumbra), np.radians(umbra), np.pi]
     alphas, weights = [], []
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
         if b > a:
             alpha = 0.5 * (b - a) * x + 0.5 * (b + a)
             alphas.append(alpha)
@@ -406,3 +409,61 @@ def test_invalid_angles_fail_at_update(variant_rgb):
     params["penumbra_angle"] = 40.0
     with pytest.raises(ValueError, match="penumbra_angle"):
         params.update()
+
+
+def test_gobo_pdf_wavelengths_is_the_density_sampled(variant_spectral):
+    """With a gobo, sample_wavelengths draws from the texture's spectral density (as the
+    built-in ``spot``), so pdf_wavelengths must be that density: weight * pdf_wavelengths
+    equals the emitted spectrum gobo(uv, lambda) * I(lambda) at every wavelength drawn (a
+    blackbody intensity, whose own density differs, makes a wrong pdf visible)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    intensity = {"type": "blackbody", "temperature": 3000.0}
+    light = mi.load_dict({"type": "spotlight", "intensity": intensity,
+                          "texture": {"type": "bitmap", "filename": str(GOBO)}})
+    gobo = mi.load_dict({"type": "bitmap", "filename": str(GOBO)})
+    planck = mi.load_dict(intensity)
+    n = 64
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    u = np.linspace(0.05, 0.95, n)
+    si.uv = mi.Point2f(u, u[::-1])
+    wavelengths, weight = light.sample_wavelengths(si, mi.Float(np.linspace(0.01, 0.99, n)))
+    pdf = light.pdf_wavelengths(wavelengths)
+    si.wavelengths = wavelengths
+    emitted = np.array(gobo.eval(si)) * np.array(planck.eval(si))
+    lit = emitted > 0.0
+    assert lit.sum() > n  # the window is open over most of the gobo
+    np.testing.assert_allclose((np.array(weight) * np.array(pdf))[lit], emitted[lit], rtol=1e-4)
+    own = np.array(planck.pdf_spectrum(si))
+    assert not np.allclose(own, np.array(pdf), rtol=1e-2)
+
+
+@pytest.mark.parametrize(("name", "ours"), [("cutoff_angle", "umbra_angle"),
+                                            ("beam_width", "penumbra_angle")])
+def test_mitsuba_spot_angles_point_to_ours(variant_rgb, name, ours):
+    """Mitsuba's ``spot`` calls the angles ``cutoff_angle`` and ``beam_width``: given to
+    ``spotlight`` they fail in one line that names spotlight's parameter."""
+    import mitsuba as mi
+
+    with pytest.raises(Exception) as info:
+        mi.load_dict({"type": "spotlight", name: 20.0})
+    line = next(l for l in str(info.value).splitlines() if "spotlight: " in l)
+    assert f"'{name}'" in line and f"'{ours}'" in line, line
+
+
+def test_reference_page(variant_rgb):
+    """The module docstring of ``spotlight`` follows the one reference-page format, and
+    its |exposed| / |differentiable| marks agree with mi.traverse (with and without a
+    gobo, radiometric and luminous)."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import spotlight
+
+    table = checks.parse_reference_page(spotlight.__doc__, "spotlight")
+    assert {"umbra_angle", "penumbra_angle", "cone_falloff", "texture", "luminous_flux",
+            "luminous_intensity", "spectrum"} <= set(table)
+    assert table["umbra_angle"]["unit"] == "degrees"
+    for extra in ({"intensity": 2.0, "texture": {"type": "bitmap", "filename": str(GOBO)}},
+                  {"power": 2.0}, {"luminous_flux": 100.0}, {"luminous_intensity": 10.0}):
+        checks.check_marks_against_traverse(
+            table, mi.load_dict({"type": "spotlight", **extra}))

@@ -1,0 +1,128 @@
+"""Make the README's gallery: small PNGs of every scene and of the studies' key figures.
+
+``make gallery`` first renders every scene of ``scenes/`` at its default settings with
+``spectrace render`` into ``out/gallery/``, then runs this script, which
+
+* shrinks each rendered PNG to ``--width`` pixels (Lanczos, sRGB 8 bits as written by
+  ``spectrace render``) into ``OUT/scenes/<scene>.png``;
+* executes every notebook of ``notebooks/`` at full size (``SPECTRACE_QUICK`` unset) in
+  a kernel running this Python, with ``SPECTRACE_GALLERY=OUT/studies``, so that each
+  notebook saves its key figures there (``spectrace.studies.save_figure``); the executed
+  notebooks themselves are not kept (they are committed without outputs).
+
+Figures are reduced to a 256-colour palette, which keeps them sharp and small; renders
+keep their full colour. Usage::
+
+    python docs/make_gallery.py --renders out/gallery --out docs/gallery
+    python docs/make_gallery.py --renders out/gallery --out docs/gallery --no-notebooks
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = ROOT / "notebooks"
+#: Width of a scene thumbnail (pixels).
+SCENE_WIDTH = 320
+#: Seconds a notebook cell may run at full size.
+CELL_TIMEOUT = 3600
+KERNEL_NAME = "spectrace-gallery"
+
+
+def shrink(source: Path, target: Path, width: int) -> None:
+    """Write ``source`` scaled to ``width`` pixels wide (aspect kept) as an optimized PNG."""
+    from PIL import Image
+
+    with Image.open(source) as image:
+        image = image.convert("RGB")
+        if image.width > width:
+            height = max(1, round(image.height * width / image.width))
+            image = image.resize((width, height), Image.Resampling.LANCZOS)
+        image.save(target, optimize=True)
+
+
+def palette(path: Path) -> None:
+    """Reduce a figure PNG to 256 colours in place (plots have few colours)."""
+    from PIL import Image
+
+    with Image.open(path) as image:
+        reduced = image.convert("RGB").quantize(colors=256, method=Image.Quantize.MEDIANCUT)
+    reduced.save(path, optimize=True)
+
+
+def run_notebook(path: Path, figures: Path) -> None:
+    """Execute ``path`` at full size in a kernel of this Python; figures go to ``figures``."""
+    import nbclient
+    import nbformat
+    from jupyter_client.kernelspec import KernelSpecManager
+    from jupyter_client.manager import KernelManager
+
+    with tempfile.TemporaryDirectory() as tmp:
+        spec_dir = Path(tmp) / "kernels" / KERNEL_NAME
+        spec_dir.mkdir(parents=True)
+        (spec_dir / "kernel.json").write_text(json.dumps({
+            "argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+            "display_name": "spectrace gallery kernel",
+            "language": "python",
+        }))
+        env = {"SPECTRACE_GALLERY": str(figures.resolve()),
+               "MPLBACKEND": "module://matplotlib_inline.backend_inline",
+               "JUPYTER_RUNTIME_DIR": str(Path(tmp) / "runtime"),
+               "IPYTHONDIR": str(Path(tmp) / "ipython")}
+        saved = {k: os.environ.get(k) for k in [*env, "SPECTRACE_QUICK"]}
+        os.environ.update(env)
+        os.environ.pop("SPECTRACE_QUICK", None)  # full size
+        try:
+            ksm = KernelSpecManager(kernel_dirs=[str(Path(tmp) / "kernels")],
+                                    ensure_native_kernel=False)
+            km = KernelManager(kernel_name=KERNEL_NAME, kernel_spec_manager=ksm)
+            nb = nbformat.read(path, as_version=4)
+            nbclient.NotebookClient(nb, km=km, timeout=CELL_TIMEOUT,
+                                    resources={"metadata": {"path": str(path.parent)}}).execute()
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--renders", type=Path, default=ROOT / "out" / "gallery",
+                        help="folder of the PNGs written by spectrace render")
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "gallery")
+    parser.add_argument("--width", type=int, default=SCENE_WIDTH,
+                        help=f"scene thumbnail width in pixels (default {SCENE_WIDTH})")
+    parser.add_argument("--no-notebooks", action="store_true",
+                        help="only the scene thumbnails")
+    args = parser.parse_args(argv)
+
+    scenes_out, figures_out = args.out / "scenes", args.out / "studies"
+    scenes_out.mkdir(parents=True, exist_ok=True)
+    figures_out.mkdir(parents=True, exist_ok=True)
+    renders = sorted(args.renders.glob("*.png"))
+    if not renders:
+        print(f"error: no PNG in {args.renders} (run `make gallery`)", file=sys.stderr)
+        return 2
+    for png in renders:
+        shrink(png, scenes_out / png.name, args.width)
+        print(f"{scenes_out / png.name}")
+    if not args.no_notebooks:
+        for notebook in sorted(NOTEBOOKS.glob("*.ipynb")):
+            print(f"running {notebook.name} at full size ...", flush=True)
+            run_notebook(notebook, figures_out)
+        for figure in sorted(figures_out.glob("*.png")):
+            palette(figure)
+            print(f"{figure}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
