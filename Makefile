@@ -44,12 +44,12 @@ $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	@touch $@
 
-# Every scene at its default settings (spectrace render), then the small PNGs of the README:
+# Every scene at its default settings (one spectrace render call: plugins registered once,
+# kernels reused), then the small PNGs of the README:
 # the scenes and the notebooks' key figures (the notebooks run at full size).
 gallery: setup
 	@mkdir -p out/gallery $(GALLERY)
-	@set -e; for s in scenes/*.xml; do \
-		$(BIN)/spectrace render $$s -o out/gallery/$$(basename $$s .xml).exr -q; done
+	$(BIN)/spectrace render scenes/*.xml -o out/gallery/ -q
 	$(BIN)/python docs/make_gallery.py --renders out/gallery --out $(GALLERY)
 
 # The notebooks executed at full size, as HTML pages for a browser (needs the `lab` extra,

@@ -8,16 +8,31 @@ integrator renders once to compile its kernel (warm-up), then once timed; the ra
 time / time of ``direct`` with one emitter sample per light (as many shadow rays as
 ``local``), measured in the same run.
 
-    .venv/bin/python benchmarks/bench_local.py [--res 256] [--spp 16]
+Second table, "lights": a mesh on a floor under 1, 4, 16 and 64 ``pointlight`` s on a ring
+(``--lights``), rendered by ``local`` (phong and gouraud shading) and by ``direct`` with one
+emitter sample per light. For each: the size of the render kernel (Dr.Jit operations),
+its LLVM compile time, the first render (trace + compile + run) and a second, timed
+render (kernel reused). ``local`` loops over the lights symbolically, so its kernel and
+compile time stay the same for any number of lights. The Dr.Jit kernel cache is emptied
+for this run (``HOME`` points at a temporary folder), so every compile is counted.
+
+    .venv/bin/python benchmarks/bench_local.py [--res 256] [--spp 16] [--lights 1,4,16,64]
 """
 
 from __future__ import annotations
 
+import math
+import os
+import tempfile
+import time
 from pathlib import Path
 
 from _timing import VARIANTS, print_table, render_parser, timed_render
 
-import spectrace
+# An empty kernel cache, before Dr.Jit is imported: the lights table counts every compile.
+os.environ["HOME"] = tempfile.mkdtemp(prefix="bench_local_home.")
+
+import spectrace  # noqa: E402
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
@@ -98,8 +113,76 @@ INTEGRATORS = {
 }
 
 
+def ring_of_lights(mi, n, res, spp):
+    """A coarse mesh sphere on a floor under ``n`` point lights on a ring (total 20 W/sr)."""
+    T = mi.ScalarTransform4f
+    scene = {
+        "type": "scene",
+        "sensor": {
+            "type": "perspective",
+            "fov": 50,
+            "to_world": T().look_at(origin=[0, 4, 6], target=[0, 0, 0], up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": res, "height": res},
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+        "floor": {"type": "rectangle", "to_world": T().rotate([1, 0, 0], -90).scale(5),
+                  "bsdf": {"type": "phong"}},
+        "mesh": {"type": "obj", "filename": str(SCENES / "meshes" / "sphere_low.obj"),
+                 "to_world": T().translate([0, 1, 0]), "bsdf": {"type": "blinnphong"}},
+    }
+    for k in range(n):
+        angle = 2 * math.pi * k / n
+        scene[f"light{k}"] = {"type": "pointlight", "intensity": 20.0 / n,
+                              "position": [3 * math.cos(angle), 3, 3 * math.sin(angle)]}
+    return mi.load_dict(scene)
+
+
+def kernel_run(dr, mi, scene, integrator):
+    """(first render s, operations and compile s of its largest kernel, second render s)."""
+    dr.kernel_history()  # clear
+    start = time.perf_counter()
+    dr.eval(mi.render(scene, integrator=integrator, seed=0))
+    dr.sync_thread()
+    first = time.perf_counter() - start
+    kernels = [k for k in dr.kernel_history() if k["type"] == dr.KernelType.JIT]
+    largest = max(kernels, key=lambda k: k["operation_count"])
+    second = timed_render(scene, integrator=integrator, seed=1)
+    return first, largest["operation_count"], largest["backend_time"] / 1000.0, second
+
+
+def lights_table(args) -> None:
+    import drjit as dr
+
+    counts = [int(n) for n in args.lights.split(",")]
+    rows = []
+    for variant in VARIANTS:
+        spectrace.set_variant(variant)
+        import mitsuba as mi
+
+        dr.set_flag(dr.JitFlag.KernelHistory, True)
+        for n in counts:
+            scene = ring_of_lights(mi, n, args.res, args.spp)
+            integrators = {
+                "local phong": {"type": "local", "shading": "phong"},
+                "local gouraud": {"type": "local", "shading": "gouraud"},
+                "direct (1 emitter sample per light)": {
+                    "type": "direct", "bsdf_samples": 0, "emitter_samples": n},
+            }
+            for name, d in integrators.items():
+                first, ops, compile_s, second = kernel_run(dr, mi, scene, mi.load_dict(d))
+                rows.append((variant, n, name, ops, compile_s, first, second))
+        dr.set_flag(dr.JitFlag.KernelHistory, False)
+    print(f"\nlocal vs number of lights, {args.res}x{args.res}, {args.spp} spp, empty kernel cache")
+    print_table([("variant", "<18", ""), ("lights", ">6", "d"), ("integrator", "<38", ""),
+                 ("kernel ops", ">10", "d"), ("compile [s]", ">11", ".3f"),
+                 ("first [s]", ">9", ".3f"), ("render [s]", ">10", ".3f")], rows)
+
+
 def main() -> int:
-    args = render_parser(__doc__).parse_args()
+    parser = render_parser(__doc__)
+    parser.add_argument("--lights", default="1,4,16,64",
+                        help="numbers of lights of the lights table (default 1,4,16,64)")
+    args = parser.parse_args()
 
     rows = []
     for variant in VARIANTS:
@@ -128,6 +211,7 @@ def main() -> int:
     print(f"local vs direct, {args.res}x{args.res}, {args.spp} spp, one timed run after warm-up")
     print_table([("variant", "<18", ""), ("scene", "<13", ""), ("integrator", "<38", ""),
                  ("time [s]", ">9", ".3f"), ("ratio", ">7", ".2f")], rows)
+    lights_table(args)
     return 0
 
 

@@ -20,8 +20,10 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "emitters.delta",
     "emitters.pointlight",
     "emitters.spotlight",
+    "emitters.ieslight",
     "integrators.fog",
     "integrators.local",
+    "integrators.illuminance",
 )
 
 _registered_for: str | None = None

@@ -10,6 +10,8 @@ import sys
 
 __version__ = "0.1.0"
 DEFAULT_VARIANT = "llvm_ad_spectral"
+#: The variants spectrace works in (rgb, mono, spectral and their _polarized forms of each).
+JIT_VARIANT_PREFIXES = ("llvm_ad_", "cuda_ad_")
 
 __all__ = ["DEFAULT_VARIANT", "RenderResult", "UserError", "render", "set_variant"]
 
@@ -36,15 +38,45 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
 
     if name not in mi.variants():
         raise UserError(f"unknown variant {name!r}; available: {', '.join(mi.variants())}")
+    if not name.startswith(JIT_VARIANT_PREFIXES):
+        supported = [v for v in mi.variants() if v.startswith(JIT_VARIANT_PREFIXES)]
+        raise UserError(
+            f"variant {name!r} is not supported: spectrace's plugins are vectorized Dr.Jit "
+            f"code for the JIT variants; use one of {', '.join(supported)}"
+        )
     if mi.variant() != name:
         try:
             mi.set_variant(name)
         except (ImportError, RuntimeError) as e:  # e.g. a CUDA variant without a GPU
             first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
             raise UserError(f"variant {name!r} cannot run on this machine: {first}") from None
+    _plain_log_when_piped(mi)
     from spectrace import plugins
 
     plugins.register()
+
+
+_plain_appender = None
+
+
+def _plain_log_when_piped(mi) -> None:
+    """When stderr is not a terminal, Mitsuba's log lines without their colour escape codes
+    (its own appender writes them unconditionally): one plain appender to ``sys.stderr``."""
+    global _plain_appender
+    if _plain_appender is not None or sys.stderr.isatty():
+        return
+
+    class PlainAppender(mi.Appender):
+        def append(self, level, text):
+            sys.stderr.write(text.rstrip("\n") + "\n")
+
+        def log_progress(self, progress, name, formatted, eta, ptr=None):
+            pass
+
+    _plain_appender = PlainAppender()  # kept: the logger holds no Python reference
+    logger = mi.logger()
+    logger.clear_appenders()
+    logger.add_appender(_plain_appender)
 
 
 # The pass loop, as ``spectrace.render(scene, spp=..., seed=..., spp_per_pass=...)``.
@@ -52,3 +84,11 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
 from spectrace.passes import RenderResult, render_passes  # noqa: E402
 
 render = render_passes
+
+
+def __getattr__(name):  # spectrace.sweep(...): imported on first use, as it imports dask
+    if name == "sweep":
+        import spectrace.sweep as module  # a callable module: spectrace.sweep(scene, ...)
+
+        return module
+    raise AttributeError(f"module 'spectrace' has no attribute {name!r}")

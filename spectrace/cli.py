@@ -21,6 +21,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "compare": ("spectrace.commands.compare", "CIEDE2000 between two images, scenes or variants"),
     "furnace": ("spectrace.commands.furnace", "white furnace: directional albedo of a BSDF vs incident angle"),
     "spd": ("spectrace.commands.spd", "XYZ, xy, CCT, CRI and sRGB colour of an SPD file or dataset"),
+    "ies": ("spectrace.commands.ies", "flux, peak, beam angle and polar plot of an IES or EULUMDAT file"),
+    "help": ("spectrace.commands.help", "a plugin's reference page (help phong), or the list"),
+    "lux": ("spectrace.commands.lux", "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
+    "sweep": ("spectrace.commands.sweep", "render the Cartesian product of scene parameters on Dask"),
 }
 
 EXIT_USAGE = 2
@@ -34,16 +38,29 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="spectrace", description=__doc__.splitlines()[0])
+DESCRIPTION = ("spectrace: the classic shading and light models as Mitsuba 3 plugins, "
+               "spectral and RGB. 'spectrace COMMAND --help' describes a command.")
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every subcommand; with ``only``, the module of that subcommand alone is
+    imported and its arguments added (the others are listed by name and help), so a command
+    starts without importing the others."""
+    parser = _Parser(prog="spectrace", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, (module, help_text) in COMMANDS.items():
         cmd = sub.add_parser(name, help=help_text, description=help_text)
-        mod = importlib.import_module(module)
-        mod.add_arguments(cmd)
-        cmd.set_defaults(_module=mod)
+        if only is None or name == only:
+            mod = importlib.import_module(module)
+            mod.add_arguments(cmd)
+            cmd.set_defaults(_module=mod)
     return parser
+
+
+def _command_in(argv: list[str]) -> str:
+    """The subcommand named in ``argv`` ("" when there is none: nothing to import)."""
+    return next((arg for arg in argv if not arg.startswith("-")), "")
 
 
 def _version() -> str:
@@ -53,7 +70,8 @@ def _version() -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(only=_command_in(argv))
     args = parser.parse_args(argv)
     try:
         return int(args._module.run(args) or 0)

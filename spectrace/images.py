@@ -53,14 +53,27 @@ def check_writable(path: str | os.PathLike) -> Path:
     return path
 
 
+def as_rgb(image: np.ndarray) -> np.ndarray:
+    """The (H, W, 3) colour of a film's image: its first three channels, or, for the
+    one-channel film of a mono variant (luminance, possibly with alpha: C = 1 or 2), that
+    channel as grey (R = G = B = Y)."""
+    image = np.asarray(image)
+    if image.ndim == 2:
+        image = image[..., None]
+    if image.shape[-1] in (1, 2):
+        return np.repeat(image[..., :1], 3, axis=-1)
+    return image[..., :3]
+
+
 def write_exr(path, rgb: np.ndarray, header: dict | None = None) -> None:
-    """Write (H, W, 3) linear sRGB as float32 channels R, G, B with extra header attributes.
+    """Write (H, W, 3) linear sRGB as float32 channels R, G, B with extra header attributes
+    (a one-channel mono image as grey, see :func:`as_rgb`).
 
     Header values may be int, float or str (stored as EXR int, float and string attributes).
     """
     import OpenEXR
 
-    rgb = np.ascontiguousarray(rgb[..., :3], dtype=np.float32)
+    rgb = np.ascontiguousarray(as_rgb(rgb), dtype=np.float32)
     hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     hdr.update(header or {})
     with atomic_path(path) as tmp:
@@ -88,10 +101,11 @@ def read_exr(path) -> tuple[np.ndarray, dict]:
 
 
 def encode_srgb_8bit(rgb: np.ndarray) -> np.ndarray:
-    """Linear sRGB -> 8-bit sRGB-encoded (IEC 61966-2-1), clipped to [0, 1], NaN -> 0."""
-    from spectrace.spectral import encode_srgb
+    """Linear sRGB -> 8-bit sRGB-encoded (IEC 61966-2-1), clipped to [0, 1], NaN -> 0; a
+    one-channel (mono) image as grey."""
+    from spectrace.spectral.srgb import encode_srgb
 
-    rgb = np.nan_to_num(np.asarray(rgb[..., :3], dtype=np.float64), nan=0.0, posinf=1.0)
+    rgb = np.nan_to_num(as_rgb(rgb).astype(np.float64), nan=0.0, posinf=1.0)
     return np.round(encode_srgb(np.clip(rgb, 0.0, 1.0)) * 255.0).astype(np.uint8)
 
 
@@ -112,7 +126,7 @@ def read_image(path) -> np.ndarray:
         return read_exr(path)[0]
     from PIL import Image, UnidentifiedImageError
 
-    from spectrace.spectral import decode_srgb
+    from spectrace.spectral.srgb import decode_srgb
 
     try:
         with Image.open(path) as im:

@@ -74,7 +74,9 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
         else:
             scene = mi.load_string(ET.tostring(tree, encoding="unicode"), **params)
     except (RuntimeError, ValueError, TypeError) as e:
-        msg = one_line(e)
+        if "unused parameters" in str(e):
+            raise UserError(_unused_parameters(path, tree, str(e))) from None
+        msg = one_line(e) + _variant_hint(str(e))
         raise UserError(msg if str(path) in msg else f"scene {path}: {msg}") from None
     finally:
         _remove_path(resolver, folder)
@@ -82,7 +84,61 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
         raise UserError(f"scene {path}: no <sensor> to render from")
     if scene.integrator() is None:
         raise UserError(f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
+    for sensor in scene.sensors():
+        film = sensor.film()
+        width, height = (int(v) for v in film.crop_size())
+        if width <= 0 or height <= 0:
+            full = "x".join(str(int(v)) for v in film.size())
+            raise UserError(
+                f"scene {path}: the film's width and height must be > 0 (got {width}x{height}"
+                f"{'' if full == f'{width}x{height}' else f', full size {full}'})"
+            )
     return scene
+
+
+def scene_defaults(tree: ET.Element) -> dict[str, str]:
+    """The scene's parameters: name -> value of every ``<default>`` in the tree."""
+    return {d.get("name"): d.get("value", "") for d in tree.iter("default") if d.get("name")}
+
+
+def _unused_parameters(path: Path, tree: ET.Element, message: str) -> str:
+    """-D naming parameters the scene does not have: name them and list the scene's own."""
+    names = sorted(set(re.findall(r"\$(\w+)=", message)))
+    named = ", ".join(f"'{n}'" for n in names) or "some -D parameters"
+    defaults = scene_defaults(tree)
+    has = (f"its parameters (<default>): {', '.join(f'{k}={v}' for k, v in defaults.items())}"
+           if defaults else "it has no <default> parameters")
+    return f"scene {path}: -D {named}: the scene has no such parameter; {has}"
+
+
+#: Mitsuba's words for a plugin that needs (or refuses) a polarized variant.
+_NEEDS_POLARIZED = "only be used in polarized mode"
+_REFUSES_POLARIZED = "not support polarized mode"
+
+
+def polarized_variant(variant: str, polarized: bool) -> str:
+    """The variant closest to ``variant`` that is (or is not) polarized: the same backend
+    and colour mode where Mitsuba has it (there is no polarized RGB: spectral then)."""
+    import mitsuba as mi
+
+    base = variant.removesuffix("_polarized")
+    backend = base.rsplit("_", 1)[0]  # llvm_ad, cuda_ad, scalar
+    wanted = [f"{base}_polarized", f"{backend}_spectral_polarized"] if polarized else [base]
+    for name in wanted:
+        if name in mi.variants():
+            return name
+    return "llvm_ad_spectral_polarized" if polarized else "llvm_ad_spectral"
+
+
+def _variant_hint(message: str) -> str:
+    """'; render it with --variant V' when a plugin needs another polarization mode."""
+    import mitsuba as mi
+
+    if _NEEDS_POLARIZED in message:
+        return f"; render it with --variant {polarized_variant(mi.variant(), True)}"
+    if _REFUSES_POLARIZED in message:
+        return f"; render it with --variant {polarized_variant(mi.variant(), False)}"
+    return ""
 
 
 def _remove_path(resolver, folder: str) -> None:

@@ -32,6 +32,8 @@ from functools import lru_cache
 import colour
 import numpy as np
 
+from .srgb import decode_srgb, encode_srgb
+
 __all__ = [
     "CIE_1931_2",
     "CIE_1964_10",
@@ -324,30 +326,6 @@ def linear_srgb_to_xyz(rgb) -> np.ndarray:
     """XYZ from linear sRGB with the IEC 61966-2-1 matrix (white (1, 1, 1) -> Y = 1)."""
     rgb = _check_triples(rgb, "linear_srgb_to_xyz")
     return rgb @ _M_RGB_TO_XYZ.T.astype(rgb.dtype)
-
-
-def encode_srgb(linear) -> np.ndarray:
-    """IEC 61966-2-1 transfer function: 12.92 L for L <= 0.0031308, else 1.055 L^(1/2.4) - 0.055.
-
-    Values stay unclipped; negative values are encoded as -encode(-L) (odd extension, as
-    IEC 61966-2-2 does for extended ranges), so encode/decode round-trip on all reals.
-    """
-    a = np.asarray(linear)
-    if a.dtype.kind != "f":
-        a = a.astype(np.float64)
-    m = np.abs(a)
-    enc = np.where(m <= 0.0031308, 12.92 * m, 1.055 * np.power(m, 1 / 2.4) - 0.055)
-    return np.copysign(enc, a).astype(a.dtype, copy=False)
-
-
-def decode_srgb(encoded) -> np.ndarray:
-    """Inverse of :func:`encode_srgb`: V/12.92 for V <= 0.04045, else ((V + 0.055)/1.055)^2.4."""
-    a = np.asarray(encoded)
-    if a.dtype.kind != "f":
-        a = a.astype(np.float64)
-    m = np.abs(a)
-    dec = np.where(m <= 0.04045, m / 12.92, np.power((m + 0.055) / 1.055, 2.4))
-    return np.copysign(dec, a).astype(a.dtype, copy=False)
 
 
 def xyz_to_srgb(xyz, clip: bool = False) -> np.ndarray:

@@ -1,31 +1,32 @@
-"""Blinn-Phong BSDF (``blinnphong``): Lambertian diffuse plus Blinn's half-vector lobe.
+"""``blinnphong``: Lambertian diffuse plus Blinn's half-vector lobe (a BSDF).
 
-.. list-table::
-   :header-rows: 1
+Parameters
+----------
 
-   * - Parameter
-     - Type
-     - Default
-     - Meaning
-   * - ``diffuse_reflectance``
-     - spectrum or texture, in [0, 1]
-     - 0.5
-     - rho, the diffuse reflectance (albedo of the diffuse part)
-   * - ``specular_reflectance``
-     - spectrum or texture, in [0, 1]
-     - 0.2
-     - rho_s, the specular coefficient (the lecture's gamma * rho_white)
-   * - ``exponent``
-     - float, > 0 (unitless)
-     - 32
-     - m, the Blinn-Phong exponent (larger: sharper highlight)
-   * - ``normalized``
-     - boolean
-     - false
-     - false: the classic lobe; true: the energy-normalized lobe
+========================  =========  =======  ====  ==============================================
+parameter                 type       default  unit  description
+========================  =========  =======  ====  ==============================================
+``diffuse_reflectance``   spectrum   0.5      --    rho, the diffuse reflectance (albedo of the
+                          or                        diffuse part); in [0, 1] everywhere |exposed|
+                          texture                   |differentiable|
+``specular_reflectance``  spectrum   0.2      --    rho_s, the specular coefficient (the
+                          or                        textbooks' k_s); in [0, 1] everywhere
+                          texture                   |exposed| |differentiable|
+``exponent``              float      32       --    m, the Blinn-Phong exponent (larger: sharper
+                                                    highlight); > 0 |exposed| |differentiable|
+                                                    |discontinuous|
+``normalized``            boolean    false    --    false: the classic lobe; true: the
+                                                    energy-normalized lobe (below)
+========================  =========  =======  ====  ==============================================
 
-Formula (wi towards the light, wo towards the viewer, local frame with n = +Z,
-h = (wi + wo)/|wi + wo| the half vector; symmetric in wi and wo, hence reciprocal)::
+A reflectance texture is checked at load (values in [0, 1], evaluated on a grid when it is
+spatially varying); one that cannot be evaluated for the check is refused.
+
+Formula
+-------
+
+With wi towards the light, wo towards the viewer, local frame with n = +Z,
+h = (wi + wo)/|wi + wo| the half vector; symmetric in wi and wo, hence reciprocal::
 
     f(wi, wo) = rho / pi + rho_s * k * (n . h)^m
     k = 1                                              (normalized = false: Blinn 1977)
@@ -34,7 +35,7 @@ h = (wi + wo)/|wi + wo| the half vector; symmetric in wi and wo, hence reciproca
 The normalization is exact: at normal incidence (wi = n, so theta_h = theta_o / 2)
 the integral of (n.h)^m cos(theta_o) over the hemisphere is
 8 pi (2^(-m/2) + m) / ((m + 2)(m + 4)), so the normalized lobe's albedo there is 1
-(F. Giesen, "The Blinn-Phong normalization zoo", 2009). The popular approximation (m + 8)/(8 pi)
+(Giesen 2009). The popular approximation (m + 8)/(8 pi)
 overshoots it by up to about 7.5% (maximum near m = 8.8; 4.2% at m = 2, 4.6% at
 m = 32): it reflects more energy than it receives for rho_s = 1.
 
@@ -50,10 +51,17 @@ density (m + 1)/(2 pi) (n.h)^m, reflected about h (density
 (m + 1)/(2 pi) (n.h)^m / (4 wo.h) in wo; directions below the surface are rejected,
 weight 0); mixture weights as for ``phong`` (see :mod:`spectrace.plugins.bsdfs.lobes`).
 
-Sources: J. F. Blinn, "Models of light reflection for computer synthesized pictures",
-SIGGRAPH 1977; F. Giesen, "The Blinn-Phong normalization zoo", 2009.
+Sources
+-------
 
-XML example::
+Blinn (1977), "Models of light reflection for computer synthesized pictures",
+*SIGGRAPH 1977*; Giesen (2009), "The Blinn-Phong normalization zoo" (the exact
+normalization).
+
+Example
+-------
+
+A blue normalized Blinn-Phong plastic::
 
     <bsdf type="blinnphong">
         <rgb name="diffuse_reflectance" value="0.1, 0.2, 0.5"/>

@@ -26,10 +26,10 @@ can re-execute it after a variant switch.
 
 from __future__ import annotations
 
-import math
-
 import drjit as dr
 import mitsuba as mi
+
+from spectrace.plugins import params
 
 #: Parameters the two BSDFs accept; anything else is a load error (a typo, usually).
 PARAMETERS = ("diffuse_reflectance", "specular_reflectance", "exponent", "normalized")
@@ -49,34 +49,6 @@ def sample_power_cosine(sample2, inv_m1):
     return mi.Vector3f(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta)
 
 
-def _reflectance(props, plugin: str, name: str, default: float):
-    """The texture ``name`` (a reflectance: must lie in [0, 1])."""
-    try:
-        texture = props.get_texture(name, default)
-    except Exception as e:  # Mitsuba's own message does not name our parameter
-        raise ValueError(f"{plugin}: parameter {name!r}: {e}") from None
-    try:
-        low, high = float(dr.ravel(texture.mean())[0]), float(texture.max())
-    except Exception:  # a texture without mean()/max(): nothing to check
-        return texture
-    if not (low >= 0.0 and 0.0 <= high <= 1.0):
-        raise ValueError(
-            f"{plugin}: parameter {name!r} must be a reflectance in [0, 1] "
-            f"(got mean {low:g}, max {high:g})"
-        )
-    return texture
-
-
-def _exponent(props, plugin: str) -> float:
-    value = props.get("exponent", 32.0)
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"{plugin}: parameter 'exponent' must be a float (got {value!r})")
-    value = float(value)
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{plugin}: parameter 'exponent' must be > 0 and finite (got {value})")
-    return value
-
-
 class LobeBSDF(mi.BSDF):
     """Diffuse + glossy lobe BSDF; subclasses define the lobe (see the module docstring)."""
 
@@ -90,15 +62,12 @@ class LobeBSDF(mi.BSDF):
                 f"{self.name}: unknown parameter(s) {', '.join(map(repr, unknown))}; "
                 f"expected {', '.join(PARAMETERS)}"
             )
-        self.m_diffuse = _reflectance(props, self.name, "diffuse_reflectance", 0.5)
-        self.m_specular = _reflectance(props, self.name, "specular_reflectance", 0.2)
-        self.m_exponent = dr.opaque(mi.Float, _exponent(props, self.name))
-        normalized = props.get("normalized", False)
-        if not isinstance(normalized, bool):
-            raise ValueError(
-                f"{self.name}: parameter 'normalized' must be a boolean (got {normalized!r})"
-            )
-        self.m_normalized = normalized
+        self.m_diffuse = params.read_reflectance(props, self.name, "diffuse_reflectance", 0.5)
+        self.m_specular = params.read_reflectance(props, self.name, "specular_reflectance", 0.2)
+        exponent = params.read_float(props, self.name, "exponent", 32.0, minimum=0.0,
+                                     strict_minimum=True, finite=True)
+        self.m_exponent = dr.opaque(mi.Float, exponent)
+        self.m_normalized = params.read_bool(props, self.name, "normalized", False)
         diffuse = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide
         glossy = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
         self.m_components = [diffuse, glossy]

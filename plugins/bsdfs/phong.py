@@ -1,35 +1,36 @@
-"""Phong BSDF (``phong``): Lambertian diffuse plus Phong's cosine-power lobe.
+"""``phong``: Lambertian diffuse plus Phong's cosine-power lobe (a BSDF).
 
-.. list-table::
-   :header-rows: 1
+Parameters
+----------
 
-   * - Parameter
-     - Type
-     - Default
-     - Meaning
-   * - ``diffuse_reflectance``
-     - spectrum or texture, in [0, 1]
-     - 0.5
-     - rho, the diffuse reflectance (albedo of the diffuse part)
-   * - ``specular_reflectance``
-     - spectrum or texture, in [0, 1]
-     - 0.2
-     - rho_s, the specular coefficient (the lecture's gamma * rho_white)
-   * - ``exponent``
-     - float, > 0 (unitless)
-     - 32
-     - m, the Phong exponent (larger: sharper highlight)
-   * - ``normalized``
-     - boolean
-     - false
-     - false: the classic lobe; true: the energy-normalized lobe
+========================  =========  =======  ====  ==============================================
+parameter                 type       default  unit  description
+========================  =========  =======  ====  ==============================================
+``diffuse_reflectance``   spectrum   0.5      --    rho, the diffuse reflectance (albedo of the
+                          or                        diffuse part); in [0, 1] everywhere |exposed|
+                          texture                   |differentiable|
+``specular_reflectance``  spectrum   0.2      --    rho_s, the specular coefficient (the
+                          or                        textbooks' k_s); in [0, 1] everywhere
+                          texture                   |exposed| |differentiable|
+``exponent``              float      32       --    m, the Phong exponent (larger: sharper
+                                                    highlight); > 0 |exposed| |differentiable|
+                                                    |discontinuous|
+``normalized``            boolean    false    --    false: the classic lobe; true: the
+                                                    energy-normalized lobe (below)
+========================  =========  =======  ====  ==============================================
 
-Formula (wi towards the light, wo towards the viewer, local frame with n = +Z,
+A reflectance texture is checked at load (values in [0, 1], evaluated on a grid when it is
+spatially varying); one that cannot be evaluated for the check is refused.
+
+Formula
+-------
+
+With wi towards the light, wo towards the viewer, local frame with n = +Z,
 r = mirror of wi about n, so r.wo = cos of the angle between wo and the mirror
-direction; symmetric in wi and wo, hence reciprocal)::
+direction; symmetric in wi and wo, hence reciprocal::
 
     f(wi, wo) = rho / pi + rho_s * k * max(r . wo, 0)^m
-    k = 1                   (normalized = false: Phong 1975, the lecture's model)
+    k = 1                   (normalized = false: Phong 1975)
     k = (m + 2) / (2 pi)    (normalized = true: Lewis 1994)
 
 ``eval`` returns f * cos(theta_o), as Mitsuba expects. Only the front side reflects
@@ -48,12 +49,18 @@ weight 0); the glossy lobe is picked with probability proportional to its albedo
 normal incidence times the mean of rho_s, the diffuse one in proportion to the mean of
 rho (see :mod:`spectrace.plugins.bsdfs.lobes`). ``pdf`` is the density of ``sample``.
 
-Sources: B. T. Phong, "Illumination for computer generated pictures", CACM 18(6), 1975;
-R. R. Lewis, "Making shaders more physically plausible", Computer Graphics Forum
-13(2), 1994; E. Lafortune and Y. Willems, "Using the modified Phong reflectance model
-for physically based rendering", KU Leuven CW197, 1994 (sampling).
+Sources
+-------
 
-XML example::
+Phong (1975), "Illumination for computer generated pictures", *Communications of the
+ACM* 18(6); Lewis (1994), "Making shaders more physically plausible", *Computer Graphics
+Forum* 13(2) (the normalization); Lafortune, Willems (1994), "Using the modified Phong
+reflectance model for physically based rendering", KU Leuven report CW197 (sampling).
+
+Example
+-------
+
+A red normalized Phong plastic::
 
     <bsdf type="phong">
         <rgb name="diffuse_reflectance" value="0.4, 0.1, 0.1"/>

@@ -73,6 +73,7 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
+from spectrace.plugins import params
 from spectrace.plugins.emitters import falloff, luminous
 
 #: The four ways to give a light's emission, and their units.
@@ -95,33 +96,15 @@ def _float_value(props, plugin: str, name: str) -> float:
     if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):
         raise ValueError(
             f"{plugin}: parameter '{name}' must be a float in {EMISSION_UNITS[name]} "
-            f"(got a {falloff.type_name(props, name)}); give the spectral shape as "
+            f"(got a {params.xml_type(props, name)}); give the spectral shape as "
             "parameter 'spectrum'"
         )
-    value = float(props.get(name))
-    if not value >= 0.0:
-        raise ValueError(f"{plugin}: parameter '{name}' must be >= 0 (got {value:g})")
-    return value
+    return params.read_float(props, plugin, name, params.REQUIRED, minimum=0.0)
 
 
 def _uniform_texture(props, plugin: str, name: str, default):
     """An emissive spectrum texture, spatially uniform and >= 0 everywhere."""
-    texture = props.get_emissive_texture(name, default)
-    if texture.is_spatially_varying():
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be a spectrum, not a spatially varying texture"
-        )
-    try:
-        minimum = spectrum_minimum(texture)
-    except RuntimeError as error:  # e.g. a blackbody outside spectral variants
-        reason = str(error).strip().splitlines()[-1]
-        raise ValueError(
-            f"{plugin}: parameter '{name}' cannot be evaluated in variant {mi.variant()} "
-            f"({reason})"
-        ) from None
-    if not minimum >= 0:
-        raise ValueError(f"{plugin}: parameter '{name}' must be >= 0 (got minimum {minimum:g})")
-    return texture
+    return params.read_spectrum(props, plugin, name, default, minimum=0.0)
 
 
 def parse_emission(props, plugin: str, default: float = 1.0):

@@ -69,59 +69,16 @@ import math
 import drjit as dr
 import mitsuba as mi
 
+from spectrace.plugins import params
+
 DEFAULT_LAW = "inverse_square"
 
 
-def type_name(props, name: str) -> str:
-    """The XML type of a given parameter, as a user wrote it (float, string, rgb, ...)."""
-    return str(props.type(name)).split(".")[-1].lower()
-
-
-def read_float(props, plugin: str, name: str, default: float) -> float:
-    """A float parameter (an ``<integer>`` is accepted too, as Mitsuba does); any other
-    XML type is an error naming the parameter, never a silent conversion."""
-    if name not in props:
-        return default
-    if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be a float (got a {type_name(props, name)} "
-            f"{props.as_string(name)})"
-        )
-    return float(props.get(name))
-
-
-def read_choice(props, plugin: str, name: str, default: str, options) -> str:
-    """A string parameter that must be one of ``options``."""
-    if name not in props:
-        return default
-    if props.type(name) != mi.Properties.Type.String:
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be one of {', '.join(options)} (got a "
-            f"{type_name(props, name)} {props.as_string(name)})"
-        )
-    value = props.get(name)
-    if value not in options:
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be one of {', '.join(options)} "
-            f"(got {value!r})"
-        )
-    return value
-
-
-def _param(props, plugin: str, name: str, default: float | None) -> float:
-    """Read the float parameter ``name`` (``default`` when absent; required when None)."""
-    if name in props:
-        return read_float(props, plugin, name, 0.0)
-    if default is None:
-        raise ValueError(
-            f"{plugin}: falloff '{props.get('falloff')}' needs parameter '{name}'"
-        )
-    return default
-
-
-def _require(ok: bool, plugin: str, name: str, rule: str, value) -> None:
-    if not ok:
-        raise ValueError(f"{plugin}: parameter '{name}' must be {rule} (got {value})")
+#: Aliases of the typed-parameter helpers (:mod:`spectrace.plugins.params`), kept for the
+#: lights that call them through this module.
+type_name = params.xml_type
+read_float = params.read_float
+read_choice = params.read_choice
 
 
 class InverseSquare:
@@ -141,8 +98,8 @@ class InverseSquareEpsilon:
     """1 / (r + epsilon)^2: finite (1/epsilon^2) at the light."""
 
     def __init__(self, props, plugin: str):
-        self.epsilon = _param(props, plugin, "epsilon", 0.01)
-        _require(self.epsilon >= 0, plugin, "epsilon", ">= 0", self.epsilon)
+        self.epsilon = params.read_float(props, plugin, "epsilon", 0.01, minimum=0.0,
+                                         finite=True)
 
     def __call__(self, dist2):
         return dr.rcp(dr.square(dr.sqrt(dist2) + self.epsilon))
@@ -155,12 +112,10 @@ class Polynomial:
     """1 / (kc + kl r + kq r^2): OpenGL's constant, linear and quadratic attenuation."""
 
     def __init__(self, props, plugin: str):
-        self.kc = _param(props, plugin, "kc", 0.0)
-        self.kl = _param(props, plugin, "kl", 0.0)
-        self.kq = _param(props, plugin, "kq", 1.0)
-        for name in ("kc", "kl", "kq"):
-            value = getattr(self, name)
-            _require(value >= 0, plugin, name, ">= 0", value)
+        self.kc, self.kl, self.kq = (
+            params.read_float(props, plugin, name, default, minimum=0.0, finite=True)
+            for name, default in (("kc", 0.0), ("kl", 0.0), ("kq", 1.0))
+        )
         if self.kc == self.kl == self.kq == 0:
             raise ValueError(
                 f"{plugin}: parameters 'kc', 'kl', 'kq' of the polynomial falloff must not "
@@ -183,10 +138,12 @@ class Windowed:
     """clamp(1 - (r/R)^4, 0, 1)^2 / max(r^2, eps^2): Karis' windowed inverse square."""
 
     def __init__(self, props, plugin: str):
-        self.radius = _param(props, plugin, "radius", None)
-        self.epsilon = _param(props, plugin, "epsilon", 0.01)
-        _require(self.radius > 0, plugin, "radius", "> 0", self.radius)
-        _require(self.epsilon > 0, plugin, "epsilon", "> 0", self.epsilon)
+        if "radius" not in props:
+            raise ValueError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
+        self.radius = params.read_float(props, plugin, "radius", None, minimum=0.0,
+                                        strict_minimum=True, finite=True)
+        self.epsilon = params.read_float(props, plugin, "epsilon", 0.01, minimum=0.0,
+                                         strict_minimum=True, finite=True)
         self.inv_radius4 = 1.0 / self.radius**4
         self.epsilon2 = self.epsilon**2
 
@@ -227,15 +184,14 @@ def parse_falloff(props, plugin: str):
     The returned object is called with the squared distance (a Dr.Jit Float) and gives
     the attenuation factor. Raises ``ValueError`` naming the parameter on a bad value.
     """
-    name = read_choice(props, plugin, "falloff", DEFAULT_LAW, FALLOFF_LAWS)
+    name = params.read_choice(props, plugin, "falloff", DEFAULT_LAW, FALLOFF_LAWS)
     return FALLOFF_LAWS[name](props, plugin)
 
 
 def parse_angle(props, plugin: str, name: str, default: float) -> float:
     """A half-angle in degrees from ``props``, in (0, 90]."""
-    value = read_float(props, plugin, name, default)
-    _require(0 < value <= 90, plugin, name, "in (0, 90] degrees", value)
-    return value
+    return params.read_float(props, plugin, name, default, minimum=0.0, maximum=90.0,
+                             strict_minimum=True)
 
 
 FOUR_PI = 4.0 * math.pi

@@ -71,7 +71,9 @@ An 800 lm bulb of a warm 2700 K spectrum::
     <emitter type="pointlight">
         <point name="position" x="0" y="2.4" z="0"/>
         <float name="luminous_flux" value="800"/>
-        <blackbody name="spectrum" temperature="2700"/>
+        <spectrum type="blackbody" name="spectrum">
+            <float name="temperature" value="2700"/>
+        </spectrum>
     </emitter>
 """
 

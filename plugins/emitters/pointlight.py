@@ -78,7 +78,9 @@ A 3000 K lamp of 800 lm, 2.4 m above the floor, with OpenGL's attenuation::
     <emitter type="pointlight">
         <point name="position" x="0" y="2.4" z="0"/>
         <float name="luminous_flux" value="800"/>
-        <blackbody name="spectrum" temperature="3000"/>
+        <spectrum type="blackbody" name="spectrum">
+            <float name="temperature" value="3000"/>
+        </spectrum>
         <string name="falloff" value="polynomial"/>
         <float name="kc" value="1"/>
         <float name="kq" value="0.5"/>
@@ -90,6 +92,7 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
+from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff
 
 PLUGIN = "pointlight"
@@ -106,12 +109,7 @@ class PointLight(delta.DeltaLight):
                     f"{PLUGIN}: give either parameter 'position' or parameter 'to_world', "
                     "not both"
                 )
-            if props.type("position") != mi.Properties.Type.Vector:
-                raise ValueError(
-                    f"{PLUGIN}: parameter 'position' must be a point (got a "
-                    f"{falloff.type_name(props, 'position')} {props.as_string('position')})"
-                )
-            position = mi.ScalarPoint3f(props.get("position"))
+            position = params.read_point(props, PLUGIN, "position", None)
         else:
             to_world = props.get("to_world", mi.ScalarTransform4f())
             position = mi.ScalarPoint3f(to_world.translation())

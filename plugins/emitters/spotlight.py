@@ -102,7 +102,9 @@ A 1000 lm stage spot aimed at the origin from 4 m, smoothstep edge::
             <lookat origin="0, 4, 0" target="0, 0, 0" up="0, 0, 1"/>
         </transform>
         <float name="luminous_flux" value="1000"/>
-        <blackbody name="spectrum" temperature="3200"/>
+        <spectrum type="blackbody" name="spectrum">
+            <float name="temperature" value="3200"/>
+        </spectrum>
         <float name="umbra_angle" value="35"/>
         <float name="penumbra_angle" value="25"/>
         <string name="cone_falloff" value="smoothstep"/>
@@ -114,6 +116,7 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
+from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff, luminous
 
 PLUGIN = "spotlight"
@@ -220,11 +223,12 @@ class SpotLight(delta.DeltaLight):
                 f"{PLUGIN}: parameter 'penumbra_angle' must be <= umbra_angle "
                 f"(got penumbra_angle={penumbra}, umbra_angle={umbra})"
             )
-        self.cone_name = falloff.read_choice(props, PLUGIN, "cone_falloff", "quadratic",
-                                             CONE_FALLOFFS)
+        self.cone_name = params.read_choice(props, PLUGIN, "cone_falloff", "quadratic",
+                                            CONE_FALLOFFS)
         self.cone = CONE_FALLOFFS[self.cone_name]
         self.law = falloff.parse_falloff(props, PLUGIN)
-        self.texture = props.get_texture("texture") if "texture" in props else None
+        self.texture = params.read_texture(props, PLUGIN, "texture", None, minimum=0.0,
+                                           what="a texture (gobo)")
         self.gobo_has_pdf = self.texture is not None and has_pdf_spectrum(self.texture)
         self.umbra_angle = mi.Float(umbra)
         self.penumbra_angle = mi.Float(penumbra)

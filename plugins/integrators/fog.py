@@ -1,25 +1,54 @@
-"""Fog laws of the ``local`` integrator: the fraction f(d) of a surface's radiance that
-survives a camera distance d.
+"""``fog``: the fog laws of the ``local`` integrator (helper page, not a plugin).
 
-The rendered radiance is L = f(d) L_surface + (1 - f(d)) L_fog (``fog_color``).
+The ``fog`` parameter of ``local`` picks the fraction f(d) of a surface's radiance that
+survives the camera distance d; the rest is replaced by the fog's radiance:
+L = f(d) L_surface + (1 - f(d)) fog_color. Each law is a function
+``law(d, start, end, density)`` of Dr.Jit arrays and Python floats; :data:`FOG_LAWS` maps
+the XML name to it. d may be the largest finite float for rays that leave the scene: every
+law then gives 0 (only fog colour) unless it is ``none`` or the density is 0.
 
-==========================  ======================================  ===================
-law                         f(d)                                    parameters
-==========================  ======================================  ===================
-``none``                    1                                       --
-``linear``                  clamp((end - d) / (end - start), 0, 1)  ``fog_start``,
-                                                                    ``fog_end``
-``exponential``             exp(-density d)                         ``fog_density``
-``exponential_squared``     exp(-(density d)^2)                     ``fog_density``
-==========================  ======================================  ===================
+Parameters
+----------
 
-Source: the fixed-function fog of OpenGL (The OpenGL Graphics System, version 1.5,
-section 3.10 "Fog", equations 3.24-3.26), where d is the eye distance.
+Set on ``local`` (see ``spectrace help local``):
 
-Each law is a function ``law(d, start, end, density)`` of Dr.Jit arrays and Python
-floats; :data:`FOG_LAWS` maps the XML name to it. d may be the largest finite float for
-rays that leave the scene: every law then gives 0 (only fog colour) unless it is
-``none`` or the density is 0.
+===============  ======  =======  ====  ==============================================
+parameter        type    default  unit  description
+===============  ======  =======  ====  ==============================================
+``fog``          string  none     --    the law: ``none``, ``linear``, ``exponential``
+                                        or ``exponential_squared`` (below)
+``fog_start``    float   0        m     ``linear``: distance where fog begins, >= 0
+``fog_end``      float   1        m     ``linear``: distance of full fog, > fog_start
+``fog_density``  float   1        1/m   exponential laws: density, >= 0
+===============  ======  =======  ====  ==============================================
+
+Formula
+-------
+
+::
+
+    none                   f(d) = 1
+    linear                 f(d) = clamp((end - d) / (end - start), 0, 1)
+    exponential            f(d) = exp(-density d)
+    exponential_squared    f(d) = exp(-(density d)^2)
+
+Sources
+-------
+
+Segal, Akeley (2003), *The OpenGL Graphics System 1.5 Specification*, sec. 3.10 "Fog",
+equations 3.24-3.26 (d is the eye distance there too).
+
+Example
+-------
+
+Linear fog from 2 m to 12 m::
+
+    <integrator type="local">
+        <string name="fog" value="linear"/>
+        <float name="fog_start" value="2"/>
+        <float name="fog_end" value="12"/>
+        <rgb name="fog_color" value="0.7, 0.7, 0.75"/>
+    </integrator>
 """
 
 from __future__ import annotations

@@ -62,7 +62,9 @@ def _render_scene(path: Path, variant: str, args, defines=None) -> np.ndarray:
     params = parse_defines(args.defines if defines is None else defines)
     scene = load_scene(path, params)
     result = spectrace.render(scene, spp=args.spp or scene_spp(scene), seed=args.seed)
-    return result.image[..., :3]
+    from spectrace.images import as_rgb
+
+    return as_rgb(result.image)  # a mono film's luminance as grey
 
 
 def _load(path: str, variant: str, args) -> np.ndarray:

@@ -102,7 +102,13 @@ def run(args) -> int:
 
     import mitsuba as mi
 
-    print("variants:        " + ", ".join(mi.variants()))
+    from spectrace import JIT_VARIANT_PREFIXES
+
+    usable = [v for v in mi.variants() if v.startswith(JIT_VARIANT_PREFIXES)]
+    others = [v for v in mi.variants() if v not in usable]
+    print("variants:        " + ", ".join(usable))
+    if others:
+        print("not supported:   " + ", ".join(others) + " (scalar: the plugins are Dr.Jit code)")
     print("kernel cache:    " + _folder_summary(kernel_cache_dir()))
     works, detail = check_backend(args.timeout)
     print(f"LLVM backend:    {'works' if works else 'FAILS: ' + detail}")

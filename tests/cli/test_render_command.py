@@ -224,3 +224,77 @@ def test_spectral_film_bad_bands(tmp_path, capsys):
                  "--film", "spectral", "--bands", "0"])
     assert code == EXIT_USAGE
     assert_one_line_error(capsys, "--bands")
+
+
+# --------------------------------------------------------------- several scenes, Dask
+
+FOG = ROOT / "scenes" / "fog.xml"
+
+
+def test_several_scenes_render_into_a_folder(tmp_path, capsys):
+    """Two scenes in one call: an EXR + PNG each in the folder, a line each and a total."""
+    out = tmp_path / "renders"
+    code = main(["render", str(SHOWCASE), str(FOG), "-o", f"{out}/", *TINY,
+                 "--variant", "llvm_ad_rgb"])
+    assert code == 0
+    for name in ("showcase", "fog"):
+        assert read_exr(out / f"{name}.exr")[0].shape == (24, 24, 3)
+        assert (out / f"{name}.png").is_file()
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[0].startswith("showcase.xml: ") and lines[1].startswith("fog.xml: ")
+    assert lines[2].startswith("total: 2 scenes")
+
+
+def test_several_scenes_need_a_folder(tmp_path, capsys):
+    """-o FILE.exr with two scenes: exit 2, one line, nothing written."""
+    out = tmp_path / "one.exr"
+    code = main(["render", str(SHOWCASE), str(FOG), "-o", str(out), *TINY])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "folder")
+    assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_workers_render_the_local_image(tmp_path):
+    """--workers 2: the passes on two worker processes, the same image as the local loop."""
+    common = ["--variant", "llvm_ad_rgb", "--seed", "4", "--spp", "8"]
+    code, local = render(tmp_path, *common, name="local.exr")
+    assert code == 0
+    code, remote = render(tmp_path, *common, "--workers", "2", name="remote.exr")
+    assert code == 0
+    assert read_exr(remote)[1]["spp"] == 8
+    np.testing.assert_allclose(read_exr(remote)[0], read_exr(local)[0], rtol=SAME_SEED_RTOL,
+                               atol=SAME_SEED_ATOL)
+
+
+def test_ctrl_c_with_workers_saves_the_passes_done(tmp_path):
+    """SIGINT during a distributed render cancels what is outstanding, saves the passes
+    done with their sample count, exits 130."""
+    out = tmp_path / "int.exr"
+    proc = run_cli("render", str(SHOWCASE), "-o", str(out), "-D", "res=16", "--spp", "100000",
+                   "--spp-per-pass", "4", "--variant", "llvm_ad_rgb", "-q", "--workers", "2")
+    line = proc.stderr.readline()  # printed once the workers are up
+    assert line.startswith("rendering"), line
+    time.sleep(1.5)
+    os.kill(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == EXIT_INTERRUPTED, err
+    rgb, header = read_exr(out)
+    assert 4 <= header["spp"] < 100000 and header["spp"] % 4 == 0
+    assert np.isfinite(rgb).all()
+    assert f"saved {header['spp']} of 100000 spp" in err and "Traceback" not in err
+
+
+def test_bands_without_spectral_film_is_refused(tmp_path, capsys):
+    """--bands only means something with --film spectral: alone it is a mistake, not ignored."""
+    code, out = render(tmp_path, "--variant", "llvm_ad_rgb", "--bands", "8")
+    assert code == EXIT_USAGE and not out.exists()
+    assert_one_line_error(capsys, "--bands", "--film spectral")
+
+
+def test_one_pass_is_reported_in_the_singular(tmp_path, capsys):
+    """A render of a single pass says "1 pass", not "1 passes"."""
+    out = tmp_path / "one.exr"
+    code = main(["render", str(SHOWCASE), "-o", str(out), "-D", "res=16", "--spp", "2",
+                 "--spp-per-pass", "4", "-q", "--variant", "llvm_ad_rgb"])
+    assert code == 0
+    assert "in 1 pass," in capsys.readouterr().out

@@ -58,7 +58,7 @@ def surface_interaction(wi, n=None):
     si.n = mi.Normal3f(0, 0, 1)
     si.sh_frame = mi.Frame3f(si.n)
     if mi.is_spectral:
-        si.wavelengths = mi.Spectrum(*WAVELENGTHS)
+        si.wavelengths = mi.UnpolarizedSpectrum(*WAVELENGTHS)
     return si
 
 

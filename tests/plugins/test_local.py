@@ -162,10 +162,11 @@ def cast(integrator, scene, origins, targets):
     ray.d = mi.Vector3f(*(mi.Float(c) for c in direction.T.astype(np.float32)))
     ray.maxt = dr.inf
     if mi.is_spectral:
-        ray.wavelengths = mi.Spectrum(*WAVELENGTHS)
+        ray.wavelengths = mi.UnpolarizedSpectrum(*WAVELENGTHS)
     sampler = mi.load_dict({"type": "independent"})
     sampler.seed(0, n)
     L, valid, _ = integrator.sample(scene, sampler, ray)
+    L = mi.unpolarized_spectrum(L)  # the [0, 0] entry of a Mueller matrix when polarized
     return np.array(L, dtype=np.float64).T.reshape(n, -1), np.array(valid, dtype=bool)
 
 
@@ -199,7 +200,7 @@ def random_barycentrics(rng, n):
     return np.clip(b, 0.02, None) / np.clip(b, 0.02, None).sum(axis=1, keepdims=True)
 
 
-def test_gouraud_interpolates_vertex_radiance(variant, rng):
+def test_gouraud_interpolates_vertex_radiance(any_variant, rng):
     """Gouraud shading: the radiance at a point of a triangle is the barycentric blend of
     the closed-form radiance rho/pi * I cos(theta_k) / r_k^2 at its three vertices, with
     the vertex normals."""
@@ -306,6 +307,72 @@ def test_gouraud_on_analytic_shape_falls_back_to_phong(variant):
     np.testing.assert_allclose(gouraud, phong, rtol=RTOL, atol=ATOL)
 
 
+# -- many lights: one symbolic loop -----------------------------------------------------
+
+
+def ring_of_lights(n, res=8):
+    """A mesh on a floor under ``n`` point lights on a ring (total intensity INTENSITY)."""
+    lights = {}
+    for k in range(n):
+        angle = 2 * np.pi * k / n
+        lights[f"light{k}"] = {"type": "pointlight", "intensity": uniform(INTENSITY / n),
+                               "position": [3 * np.cos(angle), 3, 3 * np.sin(angle)]}
+    return showcase(lights, res=res)
+
+
+def largest_kernel_size(scene, integrator):
+    """Operation count of the largest kernel that rendering ``scene`` launches."""
+    dr.set_flag(dr.JitFlag.KernelHistory, True)
+    try:
+        dr.kernel_history()  # clear
+        dr.eval(mi.render(scene, integrator=mi.load_dict(integrator), seed=0))
+        kernels = [k for k in dr.kernel_history() if k["type"] == dr.KernelType.JIT]
+    finally:
+        dr.set_flag(dr.JitFlag.KernelHistory, False)
+    return max(k["operation_count"] for k in kernels)
+
+
+@pytest.mark.parametrize("shading", ["phong", "gouraud"])
+def test_kernel_size_does_not_depend_on_the_number_of_lights(variant_rgb, shading):
+    """``local`` loops over the emitters symbolically: 2 and 7 lights give kernels of the
+    same size (an unrolled Python loop grows the kernel with every light)."""
+    integrator = {"type": "local", "shading": shading}
+    sizes = [largest_kernel_size(ring_of_lights(n), integrator) for n in (2, 7)]
+    assert sizes[0] == sizes[1]
+
+
+class _Warnings(mi.Appender):
+    """Collects the text of Mitsuba's log messages."""
+
+    def __init__(self):
+        super().__init__()
+        self.lines = []
+
+    def append(self, level, text):
+        self.lines.append(text)
+
+    def log_progress(self, *args):
+        pass
+
+
+def test_gouraud_fallback_warned_once_per_scene(variant_rgb):
+    """Rendering the same scene in several passes logs the Gouraud fallback once; a second
+    scene logs it again."""
+    logger = mi.logger()
+    appender = _Warnings()
+    logger.add_appender(appender)
+    try:
+        integrator = mi.load_dict({"type": "local", "shading": "gouraud"})
+        scene = ring_of_lights(1)
+        for seed in range(3):
+            mi.render(scene, integrator=integrator, seed=seed)
+        mi.render(ring_of_lights(1), integrator=integrator, seed=0)
+    finally:
+        logger.remove_appender(appender)
+    warnings = [line for line in appender.lines if "gouraud' needs triangle meshes" in line]
+    assert len(warnings) == 2
+
+
 # -- ambient and fog -------------------------------------------------------------------
 
 PLANE_DISTANCE = 4.0  # camera height above the plane z = 0
@@ -334,6 +401,30 @@ def test_ambient_term_is_rho_over_pi_times_irradiance(variant, rng):
     L, valid = cast(integrator, scene, [0, 0, PLANE_DISTANCE], points)
     assert valid.all()
     np.testing.assert_allclose(L, RHO / np.pi * E, rtol=RTOL)
+
+
+@pytest.mark.parametrize("shading", ["flat", "phong"])
+def test_closed_form_in_every_variant(any_variant, rng, shading):
+    """In every variant (RGB, mono, spectral, polarized), flat and Phong shading (Gouraud:
+    test_gouraud_interpolates_vertex_radiance): a diffuse plane under a point
+    light of intensity I at height h, with ambient E and exponential fog, shows
+    L = f(d) rho/pi (I cos / r^2 + E) + (1 - f(d)) C with f(d) = exp(-density d)."""
+    E, density, color, height = 0.4, 0.05, 0.3, 2.0
+    light = {"type": "pointlight", "position": [0, 0, height], "intensity": uniform(INTENSITY)}
+    scene = plane_scene({"light": light})
+    integrator = mi.load_dict({"type": "local", "shading": shading, "ambient": uniform(E),
+                               "fog": "exponential", "fog_density": density,
+                               "fog_color": uniform(color)})
+    eye = np.array([0.0, 0.0, PLANE_DISTANCE])
+    points = np.c_[rng.uniform(-3, 3, (32, 2)), np.zeros(32)]
+    L, valid = cast(integrator, scene, eye, points)
+    assert valid.all()
+    r2 = np.sum(points[:, :2] ** 2, axis=1) + height**2
+    irradiance = INTENSITY * height / np.sqrt(r2) / r2
+    f = np.exp(-density * np.linalg.norm(points - eye, axis=1))
+    expected = f * RHO / np.pi * (irradiance + E) + (1 - f) * color
+    np.testing.assert_allclose(L, np.broadcast_to(expected[:, None], L.shape), rtol=RTOL,
+                               atol=ATOL)
 
 
 FOG_FORMULAS = {

@@ -1,0 +1,576 @@
+"""``ieslight``: a real luminaire from its IES LM-63 or EULUMDAT photometric file, in candela.
+
+A point at the origin of ``to_world`` that emits in each direction the luminous intensity
+that a photometric file (``.ies``: IES LM-63-1986 to -2019; ``.ldt``: EULUMDAT) gives for
+it, read by ``spectrace.photometry`` (``spectrace ies FILE`` shows what a file holds), with
+the spectral shape of ``spectrum``. The file's candela values are absolute: the light emits
+the file's luminous flux (or ``luminous_flux`` when given), and a surface at r metres whose
+normal makes the angle theta with the direction to the light receives
+E_v = I_v(gamma, C) cos(theta) / r^2 lux. Between the file's angles the intensity is
+bilinear in (gamma, C), as ``Photometry.intensity``; it is zero outside the measured range.
+Light tracing (``ptracer``) draws directions in proportion to the intensity.
+
+Parameters
+----------
+
+===================  =========  ==============  ====  ==========================================
+parameter            type       default         unit  description
+===================  =========  ==============  ====  ==========================================
+``filename``         string     (required)      --    the photometric file, ``.ies`` or
+                                                      ``.ldt``; a relative path is resolved like
+                                                      Mitsuba's other files (the scene's folder
+                                                      first)
+``to_world``         transform  identity        --    placement; the light points along local
+                                                      +Z (gamma = 0), aim it with ``lookat``
+                                                      (below) |exposed|
+``spectrum``         spectrum   d65             --    spectral shape s of the lamp (value,
+                                                      tabulated SPD, ``blackbody``, ``d65``,
+                                                      RGB); its scale does not matter |exposed|
+                                                      |differentiable|
+``scale``            float      1               --    factor on the file's intensities (a
+                                                      dimmer, a maintenance factor); >= 0
+                                                      |exposed| |differentiable|
+``luminous_flux``    float      --              lm    rescale the profile so that the light
+                                                      emits this luminous flux (before
+                                                      ``scale``); >= 0 |exposed|
+                                                      |differentiable|
+``falloff``          string     inverse_square  --    distance law and its parameters, as for
+                                                      ``pointlight`` (see ``spectrace help
+                                                      falloff``)
+``sampling_weight``  float      1               --    relative chance that an integrator picks
+                                                      this light to sample (Mitsuba's
+                                                      emitters) |exposed|
+===================  =========  ==============  ====  ==========================================
+
+The emission parameters of the other lights (``intensity``, ``power``,
+``luminous_intensity``) are refused: the file gives the intensity. Lengths are in metres for
+the photometric units to hold (100 cd at 1 m give 100 lux).
+
+Formula
+-------
+
+Frame. In the light's local frame the photometric zero (gamma = 0, nadir: where a downlight
+shines) is local +Z; C = 0 is local +X; C grows counterclockwise seen from above the
+luminaire (from local -Z, looking along the light), as IES LM-63 defines Type C, so C = 90
+is local -Y::
+
+     seen from above the luminaire         side view (C = 0 / 180 plane)
+     (+Z, nadir, points into the page)
+
+               C = 90                                 -Z (above)
+              local -Y                                 |
+                 |                               ------o------  luminaire
+                 |                                    /|\\
+      C = 180 ---o--- C = 0                  C = 180 / | \\ C = 0
+      local -X   |    local +X                      /  |  \\
+                 |                                     |
+                 |                                    +Z  gamma = 0 (nadir)
+               C = 270
+              local +Y
+
+A unit direction d = (x, y, z) in the local frame has the angles::
+
+    d = (sin gamma cos C, -sin gamma sin C, cos gamma)
+    gamma = atan2(sqrt(x^2 + y^2), z),    C = atan2(-y, x) mod 360
+
+Aiming: ``<lookat origin="o" target="t" up="u"/>`` points local +Z (gamma = 0) from o to t,
+local +Y along u (made perpendicular to the aim) and local +X along u x (t - o). So C = 0 is
+``up x aim`` (to the left when seen from behind the light with u up), C = 90 points away
+from u and C = 270 towards it: a downlight aimed at the floor (t below o) with ``up`` along
+the world +X has C = 90 along the world -X.
+
+Type B files (floodlights) follow the conversion of ``spectrace.photometry`` (its module
+``model`` states it): the Type B aiming axis (H = V = 0) is gamma = 0, local +Z, like a Type C
+file's nadir; V > 0 tilts towards C = 0 (local +X) and the polar axis (H = +-90, the axis
+the floodlight tilts about) is C = 90 / 270, local -Y / +Y::
+
+    d = (cos H sin V, -sin H, cos H cos V)
+    V = atan2(x, z),    H = atan2(-y, sqrt(x^2 + z^2))
+
+A Type B file is looked up in its own angles: bilinear in (H, V) as
+``Photometry.intensity``, mirrored to H < 0 when its horizontal angles start at 0, zero
+outside the measured range.
+
+Emission. The file's intensity I_v(gamma, C) (cd) becomes the radiant intensity::
+
+    I_e(omega, lambda) = scale * f * I_v(gamma, C) * s(lambda) / (K_m integral V s dlambda)
+
+with K_m = 683 lm/W, V the CIE photopic efficiency, f = luminous_flux / Phi_file when
+``luminous_flux`` is given (Phi_file: the file's flux, integrated over the sphere by
+``spectrace.photometry``) and f = 1 otherwise, times the distance law (1/r^2 by default). In
+RGB and mono variants the integral is the luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of
+the colour s (or its value), so that K_m * Y(I_e) = scale * f * I_v: the same lux in every
+variant (``spectrace help luminous``).
+
+Light tracing. ``sample_ray`` picks a cell [C_i, C_i+1] x [gamma_j, gamma_j+1] of the
+profile's grid (with Walker's alias table: constant time) with probability proportional to
+w_ij = Omega_ij * (mean of the cell's four corner intensities), Omega_ij = (C_i+1 - C_i)
+(cos gamma_j - cos gamma_j+1) its solid angle, then a direction in the cell from the
+bilinear interpolant of the corners in (C, cos gamma), uniform in solid angle for a constant
+cell (Type B: cells [V_i, V_i+1] x [H_j, H_j+1], Omega_ij = (V_i+1 - V_i) (sin H_j+1 -
+sin H_j), bilinear in (V, sin H)). The ray's weight is I_e(omega) / pdf(omega) with the
+exact profile, so ``ptracer`` converges to ``direct`` and a constant profile gives every ray
+the weight 4 pi I_e (as ``pointlight``).
+
+Sources
+-------
+
+IES (2019), ANSI/IES LM-63-19 *Approved Method: IES Standard File Format for the Electronic
+Transfer of Photometric Data and Related Information* (Type C angles, Type B); A. Stockmar
+(1990), EULUMDAT (the ``.ldt`` format); CIE (2019), CIE 018:2019 (K_m = 683 lm/W,
+V(lambda)); Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed.,
+sec. 12.2.3 (goniophotometric diagram lights, sampled by a 2D distribution); Walker (1977),
+"An efficient method for generating discrete random variables with general distributions",
+*ACM TOMS* 3(3); Vose (1991), "A linear algorithm for generating random numbers with a
+given distribution", *IEEE Trans. Software Eng.* 17(9) (the alias table).
+
+Example
+-------
+
+A downlight 2.8 m above the floor, of a warm-white LED spectrum, rescaled to 1200 lm::
+
+    <emitter type="ieslight">
+        <string name="filename" value="luminaires/downlight.ies"/>
+        <transform name="to_world">
+            <lookat origin="1, 2.8, 0" target="1, 0, 0" up="0, 0, 1"/>
+        </transform>
+        <spectrum name="spectrum" filename="luminaires/led_3000k.spd"/>
+        <float name="luminous_flux" value="1200"/>
+    </emitter>
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from spectrace.plugins import params
+from spectrace.plugins.emitters import delta, falloff, luminous
+
+PLUGIN = "ieslight"
+#: The other lights' emission parameters, refused here, and what to use instead.
+REFUSED = {
+    "intensity": "the file gives the intensity; use 'scale' or 'luminous_flux' to change it",
+    "power": "the file gives the flux; use 'luminous_flux' to rescale it",
+    "luminous_intensity": "the file gives the intensity; use 'scale' or 'luminous_flux'",
+    "position": "place the light with 'to_world' (its translation) and aim it with lookat",
+}
+#: A grid of the profile whose steps agree to this relative tolerance is looked up by
+#: division instead of binary search.
+REGULAR_RTOL = 1e-6
+
+
+def read_profile(filename: str):
+    """The ``Photometry`` of ``filename``, resolved through Mitsuba's file resolver; a missing
+    or bad file raises ``ValueError`` with one line naming the file (and the field)."""
+    from spectrace.errors import UserError
+    from spectrace.photometry import read_photometry
+
+    path = Path(str(mi.file_resolver().resolve(filename)))
+    if not path.is_file():
+        raise ValueError(f"{PLUGIN}: parameter 'filename': no such file {filename!r}")
+    try:
+        return path, read_photometry(path)
+    except UserError as error:
+        raise ValueError(f"{PLUGIN}: {one_line(str(error))}") from None
+    except (OSError, UnicodeError) as error:
+        raise ValueError(f"{PLUGIN}: {path}: cannot read ({error})") from None
+
+
+def one_line(text: str) -> str:
+    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
+    return "; ".join(lines)
+
+
+def whole_sphere_grid(photometry):
+    """(gamma_deg (n_g,), c_deg (n_c,), candela (n_c, n_g)) of a Type C profile on the whole
+    sphere (``Photometry.type_c_grid``), float64, each axis with at least two angles."""
+    gamma, c, candela = (np.asarray(a, dtype=np.float64) for a in photometry.type_c_grid())
+    if gamma.size == 1:
+        gamma, candela = np.array([0.0, 180.0]), np.repeat(candela.reshape(-1, 1), 2, axis=1)
+    if c.size == 1:
+        c, candela = np.array([0.0, 360.0]), np.repeat(candela.reshape(1, -1), 2, axis=0)
+    return gamma, c, candela.reshape(c.size, gamma.size)
+
+
+class TypeC:
+    """Type C angles: outer angle C (0..360), inner angle gamma (0..180); the solid angle is
+    dC d(1 - cos gamma); the table covers the whole sphere."""
+
+    bounded = False
+
+    @staticmethod
+    def angles(d):
+        """(C, gamma) in degrees of a local direction (any length)."""
+        rho = dr.sqrt(dr.square(d.x) + dr.square(d.y))
+        gamma = dr.atan2(rho, d.z) * (180.0 / math.pi)
+        c = dr.atan2(-d.y, d.x) * (180.0 / math.pi)
+        return dr.select(c < 0.0, c + 360.0, c), gamma
+
+    @staticmethod
+    def measure(gamma_deg: np.ndarray) -> np.ndarray:
+        """1 - cos(gamma) = 2 sin^2(gamma / 2) (exact near the axis)."""
+        return 2.0 * np.sin(np.radians(gamma_deg) / 2.0) ** 2
+
+    @staticmethod
+    def measure_of(d):
+        return 1.0 - d.z / dr.norm(d)
+
+    @staticmethod
+    def direction(c_rad, m):
+        """The unit local direction at C (radians) and 1 - cos(gamma) = m, and gamma in
+        degrees."""
+        sin_gamma = dr.sqrt(dr.maximum(m * (2.0 - m), 0.0))
+        sin_c, cos_c = dr.sincos(c_rad)
+        d = mi.Vector3f(sin_gamma * cos_c, -sin_gamma * sin_c, 1.0 - m)
+        return d, dr.atan2(sin_gamma, 1.0 - m) * (180.0 / math.pi)
+
+
+class TypeB:
+    """Type B angles: outer angle V (tilt about the polar axis, local -Y), inner angle H
+    (towards the polar axis); aim local +Z, V > 0 towards local +X; the solid angle is
+    dV d(sin H); the table covers the file's measured range, zero outside."""
+
+    bounded = True
+
+    @staticmethod
+    def angles(d):
+        """(V, H) in degrees of a local direction (any length)."""
+        V = dr.atan2(d.x, d.z) * (180.0 / math.pi)
+        H = dr.atan2(-d.y, dr.sqrt(dr.square(d.x) + dr.square(d.z))) * (180.0 / math.pi)
+        return V, H
+
+    @staticmethod
+    def measure(h_deg: np.ndarray) -> np.ndarray:
+        return np.sin(np.radians(h_deg))
+
+    @staticmethod
+    def measure_of(d):
+        return -d.y / dr.norm(d)
+
+    @staticmethod
+    def direction(v_rad, m):
+        """The unit local direction at V (radians) and sin(H) = m, and H in degrees."""
+        cos_h = dr.sqrt(dr.maximum(1.0 - dr.square(m), 0.0))
+        sin_v, cos_v = dr.sincos(v_rad)
+        return mi.Vector3f(cos_h * sin_v, -m, cos_h * cos_v), \
+            dr.atan2(m, cos_h) * (180.0 / math.pi)
+
+
+def profile_grid(photometry):
+    """(angle system, outer angles (n_o,), inner angles (n_i,), candela (n_o, n_i)) in
+    degrees and cd, float64: Type C on the whole sphere (C, gamma); Type B in the file's own
+    (V, H), mirrored to negative H for a laterally symmetric file (H from 0)."""
+    if photometry.photometric_type != "B":
+        gamma, c, candela = whole_sphere_grid(photometry)
+        return TypeC, c, gamma, candela
+    h = np.asarray(photometry.horizontal_angles, dtype=np.float64)
+    v = np.asarray(photometry.vertical_angles, dtype=np.float64)
+    candela = np.asarray(photometry.candela, dtype=np.float64).reshape(h.size, v.size)
+    if photometry.symmetry == "bilateral_0_180":  # I(-H, V) = I(H, V)
+        h = np.concatenate([-h[:0:-1], h])
+        candela = np.concatenate([candela[:0:-1], candela])
+    return TypeB, v, h, candela.T
+
+
+def cell_weights(outer_deg, inner_deg, candela, system):
+    """Solid angle Omega_ij and sampling weight w_ij = Omega_ij * mean of the four corners of
+    each cell [outer_i, outer_i+1] x [inner_j, inner_j+1], shape (n_o - 1, n_i - 1)."""
+    m = system.measure(inner_deg)
+    omega = np.radians(np.diff(outer_deg))[:, None] * np.diff(m)[None, :]
+    corners = candela[:-1, :-1] + candela[1:, :-1] + candela[:-1, 1:] + candela[1:, 1:]
+    return omega, omega * 0.25 * corners
+
+
+def alias_table(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Walker's alias table of a discrete distribution (Vose's construction): (pmf,
+    probability, alias) so that bucket i = floor(u n) keeps i with the probability
+    ``probability[i]`` and otherwise gives ``alias[i]``; every index then comes out with
+    probability pmf (weights / their sum)."""
+    pmf = np.asarray(weights, dtype=np.float64).ravel()
+    pmf = pmf / pmf.sum()
+    n = pmf.size
+    scaled = pmf * n
+    probability = np.ones(n)
+    alias = np.arange(n)
+    small = [i for i in range(n) if scaled[i] < 1.0]
+    large = [i for i in range(n) if scaled[i] >= 1.0]
+    while small and large:
+        s, g = small.pop(), large.pop()
+        probability[s], alias[s] = scaled[s], g
+        scaled[g] -= 1.0 - scaled[s]
+        (small if scaled[g] < 1.0 else large).append(g)
+    return pmf, probability, alias  # the leftovers keep probability 1 (rounding)
+
+
+class Axis:
+    """One angle axis of the table (degrees, increasing): the cell that holds an angle by
+    binary search, or by division when the angles are evenly spaced."""
+
+    def __init__(self, angles: np.ndarray):
+        self.n = int(angles.size)
+        self.angles = mi.Float(angles.astype(np.float32))
+        steps = np.diff(angles)
+        self.regular = bool(np.all(np.abs(steps - steps[0]) <= REGULAR_RTOL * steps[0]))
+        self.first = float(angles[0])
+        self.inv_step = float(1.0 / steps[0]) if self.regular else 0.0
+
+    def cell(self, x):
+        """Index i in [0, n - 2] with angles[i] <= x < angles[i + 1] (clamped at the ends),
+        and the fraction (x - angles[i]) / (angles[i + 1] - angles[i]) in [0, 1]."""
+        if self.regular:
+            u = (x - self.first) * self.inv_step
+            i = dr.clip(dr.floor(u), 0.0, self.n - 2.0)
+            return mi.UInt32(i), dr.clip(u - i, 0.0, 1.0)
+        angles = self.angles
+        i = dr.binary_search(1, self.n - 1, lambda k: dr.gather(mi.Float, angles, k) <= x) - 1
+        return i, self.fraction(i, x)
+
+    def fraction(self, i, x):
+        """(x - angles[i]) / (angles[i + 1] - angles[i]) clamped to [0, 1] (0 in an empty
+        cell)."""
+        if self.regular:
+            return dr.clip((x - self.first) * self.inv_step - mi.Float(i), 0.0, 1.0)
+        a0 = dr.gather(mi.Float, self.angles, i)
+        a1 = dr.gather(mi.Float, self.angles, i + 1)
+        width = a1 - a0
+        t = dr.select(width > 0.0, (x - a0) / dr.maximum(width, 1e-30), 0.0)
+        return dr.clip(t, 0.0, 1.0)
+
+
+class IESLight(delta.DeltaLight):
+    """A luminaire of a photometric file: I_v(gamma, C) times the lamp's spectrum."""
+
+    def __init__(self, props):
+        mi.Emitter.__init__(self, props)
+        for name, advice in REFUSED.items():
+            if name in props:
+                raise ValueError(f"{PLUGIN}: parameter '{name}' does not apply ({advice})")
+        self.plugin_name = PLUGIN
+        if "filename" not in props:
+            raise ValueError(f"{PLUGIN}: parameter 'filename' is required (an .ies or .ldt "
+                             "photometric file)")
+        self.filename = params.read_string(props, PLUGIN, "filename", params.REQUIRED)
+        self.path, self.photometry = read_profile(self.filename)
+        self.to_world = falloff.parse_to_world(props)
+        self.intensity = params.read_spectrum(props, PLUGIN, "spectrum", 1.0)
+        luminous.check_luminous_content(self.intensity, PLUGIN, "spectrum")
+        self.scale_value = mi.Float(params.read_float(props, PLUGIN, "scale", 1.0,
+                                                      minimum=0.0, finite=True))
+        self.file_flux = float(self.photometry.flux)
+        self.luminous_flux = None
+        if "luminous_flux" in props:
+            value = params.read_float(props, PLUGIN, "luminous_flux", None, minimum=0.0,
+                                      finite=True)
+            if not self.file_flux > 0.0:
+                raise ValueError(
+                    f"{PLUGIN}: parameter 'luminous_flux' cannot rescale {self.path}: its "
+                    f"profile emits no light (flux {self.file_flux:g} lm)"
+                )
+            self.luminous_flux = mi.Float(value)
+        self.law = falloff.parse_falloff(props, PLUGIN)
+        self._init_profile()
+        self.luminous = None
+        self.m_flags = mi.EmitterFlags.DeltaPosition
+        self.m_needs_sample_3 = False
+        self._update()
+
+    # -- profile ------------------------------------------------------------------------
+
+    def _init_profile(self):
+        """The profile's table, its axes and the distribution of ``sample_ray`` over cells."""
+        system, outer, inner, candela = profile_grid(self.photometry)
+        if outer.size < 2 or inner.size < 2:
+            raise ValueError(f"{PLUGIN}: {self.path}: a Type B profile needs two angles or "
+                             "more in each direction (it covers no solid angle)")
+        if not (np.all(np.isfinite(candela)) and np.all(candela >= 0.0)):
+            raise ValueError(f"{PLUGIN}: {self.path}: candela values must be finite and >= 0")
+        self.system = system
+        self.n_inner = inner.size
+        self.outer_axis, self.inner_axis = Axis(outer), Axis(inner)
+        self.bounds = (float(outer[0]), float(outer[-1]), float(inner[0]), float(inner[-1]))
+        self.table = mi.Float(candela.astype(np.float32).ravel())  # index: i_o * n_i + i_i
+        #: Type C with every C plane the same: the lookup needs gamma only (its first row)
+        self.rotational = system is TypeC and bool(np.all(candela == candela[:1]))
+        self.inner_measure = mi.Float(system.measure(inner).astype(np.float32))
+        self.outer_rad = mi.Float(np.radians(outer).astype(np.float32))
+        omega, weights = cell_weights(outer, inner, candela, system)
+        if not float(weights.sum()) > 0.0:
+            raise ValueError(f"{PLUGIN}: {self.path}: the profile emits no light (every "
+                             "candela value is 0)")
+        self.cell_omega = mi.Float(omega.astype(np.float32).ravel())  # i_o * (n_i - 1) + i_i
+        pmf, probability, alias = alias_table(weights)
+        self.n_cells = pmf.size
+        self.cell_pmf = mi.Float(pmf.astype(np.float32))
+        self.alias_probability = mi.Float(probability.astype(np.float32))
+        self.alias = mi.UInt32(alias.astype(np.uint32))
+
+    def _corners(self, io, ii):
+        """The candela values at the four corners of cell (io, ii): (outer_i, inner_j),
+        (outer_i+1, inner_j), (outer_i, inner_j+1), (outer_i+1, inner_j+1)."""
+        n = self.n_inner
+        k = io * n + ii
+        table = self.table
+        return (dr.gather(mi.Float, table, k), dr.gather(mi.Float, table, k + n),
+                dr.gather(mi.Float, table, k + 1), dr.gather(mi.Float, table, k + n + 1))
+
+    def _inside(self, outer, inner):
+        """Whether the angles lie in the measured range (always, for Type C)."""
+        o0, o1, i0, i1 = self.bounds
+        return (outer >= o0) & (outer <= o1) & (inner >= i0) & (inner <= i1)
+
+    def candela(self, local_d):
+        """I_v (cd) of the file in the local direction ``local_d`` (any length): bilinear in
+        the file's angles, as ``Photometry.intensity`` ((gamma, C) for Type C, linear in
+        gamma alone for a rotationally symmetric profile; (H, V) for Type B, zero outside
+        the measured range)."""
+        if self.rotational:
+            rho = dr.sqrt(dr.square(local_d.x) + dr.square(local_d.y))
+            gamma = dr.atan2(rho, local_d.z) * (180.0 / math.pi)
+            ii, ti = self.inner_axis.cell(gamma)
+            v0 = dr.gather(mi.Float, self.table, ii)
+            return dr.lerp(v0, dr.gather(mi.Float, self.table, ii + 1), ti)
+        outer, inner = self.system.angles(local_d)
+        (io, to), (ii, ti) = self.outer_axis.cell(outer), self.inner_axis.cell(inner)
+        v00, v10, v01, v11 = self._corners(io, ii)
+        value = dr.lerp(dr.lerp(v00, v10, to), dr.lerp(v01, v11, to), ti)
+        if self.system.bounded:
+            value = dr.select(self._inside(outer, inner), value, 0.0)
+        return value
+
+    def ray_direction_pdf(self, local_d):
+        """The density (per steradian) of the local directions that ``sample_ray`` draws:
+        the cell's probability times the bilinear density in (C, 1 - cos gamma) (Type B:
+        (V, sin H)) over its solid angle."""
+        outer, inner = self.system.angles(local_d)
+        (io, to), (ii, _) = self.outer_axis.cell(outer), self.inner_axis.cell(inner)
+        m = self.system.measure_of(local_d)
+        m0 = dr.gather(mi.Float, self.inner_measure, ii)
+        m1 = dr.gather(mi.Float, self.inner_measure, ii + 1)
+        y = dr.clip((m - m0) / dr.maximum(m1 - m0, 1e-30), 0.0, 1.0)
+        cell = io * (self.n_inner - 1) + ii
+        v00, v10, v01, v11 = self._corners(io, ii)
+        mean = 0.25 * (v00 + v10 + v01 + v11)
+        inv_mean = dr.select(mean > 0.0, dr.rcp(mean), 0.0)
+        bilinear = dr.lerp(dr.lerp(v00, v10, to), dr.lerp(v01, v11, to), y) * inv_mean
+        omega = dr.gather(mi.Float, self.cell_omega, cell)
+        pmf = dr.gather(mi.Float, self.cell_pmf, cell)
+        valid = omega > 0.0
+        if self.system.bounded:
+            valid &= self._inside(outer, inner)
+        return dr.select(valid, pmf * bilinear / dr.maximum(omega, 1e-30), 0.0)
+
+    def _sample_cell(self, u):
+        """A cell drawn with the alias table from the uniform ``u``: its flat index, ``u``
+        made uniform again for reuse, and the cell's probability."""
+        u = u * self.n_cells
+        bucket = dr.minimum(dr.floor(u), self.n_cells - 1.0)
+        fraction = u - bucket
+        bucket = mi.UInt32(bucket)
+        keep = dr.gather(mi.Float, self.alias_probability, bucket)
+        accept = fraction < keep
+        index = dr.select(accept, bucket, dr.gather(mi.UInt32, self.alias, bucket))
+        reused = dr.select(accept, fraction / dr.maximum(keep, 1e-30),
+                           (fraction - keep) / dr.maximum(1.0 - keep, 1e-30))
+        reused = dr.clip(reused, 0.0, dr.one_minus_epsilon(mi.Float))
+        return index, reused, dr.gather(mi.Float, self.cell_pmf, index)
+
+    def _sample_local_direction(self, sample):
+        """A local direction drawn from the cell distribution, and I_v / pdf (cd sr)."""
+        index, u, pmf = self._sample_cell(sample.x)
+        io = index // (self.n_inner - 1)
+        ii = index - io * (self.n_inner - 1)
+        v00, v10, v01, v11 = self._corners(io, ii)
+        inv_mean = dr.rcp(dr.maximum(0.25 * (v00 + v10 + v01 + v11), 1e-30))
+        p, pdf_cell = mi.warp.square_to_bilinear(v00 * inv_mean, v10 * inv_mean,
+                                                 v01 * inv_mean, v11 * inv_mean,
+                                                 mi.Point2f(u, sample.y))
+        o0 = dr.gather(mi.Float, self.outer_rad, io)
+        o1 = dr.gather(mi.Float, self.outer_rad, io + 1)
+        m0 = dr.gather(mi.Float, self.inner_measure, ii)
+        m1 = dr.gather(mi.Float, self.inner_measure, ii + 1)
+        local_d, inner = self.system.direction(dr.fma(p.x, o1 - o0, o0),
+                                               dr.fma(p.y, m1 - m0, m0))
+        # the exact profile at the drawn direction (bilinear in the angle, not its measure)
+        ti = self.inner_axis.fraction(ii, inner)
+        candela = dr.lerp(dr.lerp(v00, v10, p.x), dr.lerp(v01, v11, p.x), ti)
+        omega = dr.gather(mi.Float, self.cell_omega, index)
+        pdf = pmf * pdf_cell / omega
+        return local_d, dr.select(pdf > 0.0, candela / dr.maximum(pdf, 1e-30), 0.0)
+
+    # -- parameters ---------------------------------------------------------------------
+
+    def _update(self):
+        """Recompute the transforms and the emission scale (W/sr per cd of the file) from
+        the traversed parameters, which are never rebound (mi.traverse holds references)."""
+        self.to_local = self.to_world.inverse()
+        self.position = self.to_world.translation()
+        scale = self.scale_value * luminous.watts_per_lumen_dr(self.intensity)
+        if self.luminous_flux is not None:
+            scale = scale * self.luminous_flux * (1.0 / self.file_flux)
+        self.scale = scale
+        dr.make_opaque(self.to_world, self.to_local, self.position, self.scale)
+
+    def traverse(self, callback):
+        callback.put("scale", self.scale_value, mi.ParamFlags.Differentiable)
+        if self.luminous_flux is not None:
+            callback.put("luminous_flux", self.luminous_flux, mi.ParamFlags.Differentiable)
+        callback.put("spectrum", self.intensity, mi.ParamFlags.Differentiable)
+        callback.put("to_world", self.to_world, mi.ParamFlags.NonDifferentiable)
+
+    def parameters_changed(self, keys):
+        values = [("scale", self.scale_value)]
+        if self.luminous_flux is not None:
+            values.append(("luminous_flux", self.luminous_flux))
+        for name, array in values:
+            value = float(dr.slice(dr.detach(array)))
+            if not value >= 0.0:
+                raise ValueError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {value:g})")
+        luminous.check_luminous_content(self.intensity, PLUGIN, "spectrum")
+        self._update()
+
+    # -- sampling and evaluation --------------------------------------------------------
+
+    def _emitted(self, local_d, wavelengths, active):
+        """I_e in the local direction ``local_d`` (any length), without the distance law."""
+        value = self.intensity.eval(self._spectral_si(wavelengths), active)
+        return value * (self.candela(local_d) * self.scale)
+
+    def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
+        wavelengths, weight = self.sample_wavelengths(
+            dr.zeros(mi.SurfaceInteraction3f), wavelength_sample, active
+        )
+        local_d, ratio = self._sample_local_direction(sample2)
+        ray = mi.Ray3f(self.position, self.to_world @ local_d, time, wavelengths)
+        return ray, self._out(weight * ratio)
+
+    def sample_direction(self, it, sample, active=True):
+        ds, dist2 = self._direction_sample(it)
+        local_d = self.to_local @ (-ds.d)
+        value = self._emitted(local_d, it.wavelengths, active) * self.law(dist2)
+        return ds, self._out(value)
+
+    def eval_direction(self, it, ds, active=True):
+        d = mi.Vector3f(it.p - ds.p)
+        local_d = self.to_local @ d
+        value = self._emitted(local_d, it.wavelengths, active)
+        return self._out(value * self.law(dr.squared_norm(d)))
+
+    def sample_position(self, time, sample, active=True):
+        return self._position_sample(time), mi.Float(1.0)
+
+    def to_string(self):
+        flux = "" if self.luminous_flux is None else \
+            f", luminous_flux={float(dr.slice(dr.detach(self.luminous_flux))):g} lm"
+        return (
+            f"IESLight[filename={self.path}, flux of the file={self.file_flux:g} lm, "
+            f"to_world={self.to_world}, scale={float(dr.slice(dr.detach(self.scale_value))):g}"
+            f"{flux}, spectrum={self.intensity}, falloff={self.law!r}]"
+        )
+
+
+mi.register_emitter(PLUGIN, lambda props: IESLight(props))

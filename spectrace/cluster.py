@@ -1,0 +1,328 @@
+"""Dask clusters for spectrace: making or joining one, and what its workers run.
+
+:func:`connect` yields a ``distributed.Client``: by default on a ``LocalCluster`` of
+worker *processes* (``threads_per_worker=1``: Dask runs one task at a time per worker and
+the worker's Dr.Jit thread pool does the parallel work), or on an existing cluster given
+by its scheduler address (``tcp://host:8786``). Every worker gets the :class:`Setup`
+plugin once, when it starts (and again if it is restarted after dying):
+
+* its Dr.Jit thread pool is sized to its share of its machine's cores
+  (``os.cpu_count() // workers on that host``, at least 1), so that workers on one machine
+  do not oversubscribe it;
+* SIGINT is ignored (a Ctrl-C in the terminal reaches every process of the group: the
+  client cancels the work, the workers must not die of it);
+* the variant is set and the spectrace plugins registered (:func:`ensure_variant`, once per
+  process and variant).
+
+Kernel cache: Dr.Jit keeps compiled kernels in ``~/.drjit``; local workers inherit the
+client's environment (``HOME``, ``DRJIT_LIBLLVM_PATH``), so they share one cache folder and
+a kernel compiled by one worker is loaded from disk by the others.
+
+What a remote worker needs: the same Python environment (spectrace, mitsuba, dask), and the
+scene file and its assets readable at the *same absolute path* as on the client (tasks name
+the scene by its path; images travel back to the client, which writes every output file,
+so no shared folder is needed for the outputs).
+
+The task functions (:func:`render_image`, :func:`render_pass`) run on the workers.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import signal
+import threading
+import time
+import warnings
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from spectrace.errors import UserError
+
+#: Worker processes of the default LocalCluster. Measured on the 2-core development machine
+#: with benchmarks/bench_sweep.py (small renders): two single-threaded workers beat one
+#: worker with two Dr.Jit threads (see the README).
+DEFAULT_WORKERS = 2
+#: Seconds allowed to reach a scheduler before ``--scheduler`` is an error.
+CONNECT_TIMEOUT_S = 10
+#: How often a task that fails for a reason other than the user's (e.g. its worker died)
+#: is run again elsewhere.
+RETRIES = 2
+PLUGIN_NAME = "spectrace-setup"
+
+_LOGGERS = ("distributed", "tornado", "asyncio", "bokeh")
+
+
+def quiet_logs(level: int = logging.CRITICAL) -> None:
+    """Silence Dask's (and its web stack's) logging in this process."""
+    for name in _LOGGERS:
+        logging.getLogger(name).setLevel(level)
+
+
+@contextlib.contextmanager
+def _sigint_ignored():
+    """Ignore SIGINT while worker processes are spawned: they inherit SIG_IGN, and Python
+    then installs no KeyboardInterrupt handler in them."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _check_workers(workers: int | None) -> int:
+    n = DEFAULT_WORKERS if workers is None else workers
+    if n < 1:
+        raise UserError(f"--workers must be a positive integer (got {n})")
+    return n
+
+
+def start_local(workers: int | None = None, dr_threads: int | None = None):
+    """A LocalCluster of ``workers`` processes, one Dask thread each, quiet."""
+    from distributed import LocalCluster
+
+    n = _check_workers(workers)
+    quiet_logs()
+    with _sigint_ignored(), warnings.catch_warnings():
+        # another cluster on this machine holds port 8787: the scheduler's HTTP server
+        # (health checks; the dashboard is off) takes another port and says so
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
+    return cluster
+
+
+@contextlib.contextmanager
+def connect(workers: int | None = None, scheduler: str | None = None, *,
+            variant: str | None = None, dr_threads: int | None = None,
+            connect_timeout: float | None = None) -> Iterator:
+    """Yield a Client on a new LocalCluster of ``workers`` processes or on ``scheduler``.
+
+    ``variant``: set on every worker at start-up (others are set on first use).
+    ``dr_threads``: Dr.Jit threads per worker (default: its share of its host's cores).
+    An unreachable or malformed scheduler address is a UserError after ``connect_timeout``
+    seconds (default :data:`CONNECT_TIMEOUT_S`).
+    Closes the client (and the LocalCluster it made) on exit.
+    """
+    from distributed import Client
+
+    if workers is not None and scheduler:
+        raise UserError("--workers and --scheduler exclude each other")
+    quiet_logs()
+    cluster = None
+    if scheduler:
+        check_address(scheduler)
+        try:
+            timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
+            client = Client(scheduler, timeout=timeout, set_as_default=False)
+        except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
+            reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            raise UserError(f"cannot reach scheduler {scheduler}: {reason}") from None
+    else:
+        cluster = start_local(workers)
+        client = Client(cluster, set_as_default=False)
+    try:
+        setup_workers(client, variant=variant, dr_threads=dr_threads)
+        yield client
+    finally:
+        with _sigint_ignored():
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def check_address(address: str) -> None:
+    """UserError unless ``address`` reads as a scheduler address, e.g. tcp://host:8786."""
+    from distributed.comm.addressing import get_address_host_port
+
+    try:
+        get_address_host_port(address if "://" in address else f"tcp://{address}")
+    except (ValueError, TypeError) as e:
+        reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise UserError(f"--scheduler {address}: not a scheduler address such as "
+                        f"tcp://host:8786 ({reason})") from None
+
+
+def setup_workers(client, variant: str | None = None, dr_threads: int | None = None) -> None:
+    """Register :class:`Setup` on every worker (present and future)."""
+    from distributed.comm import get_address_host
+
+    workers = client.scheduler_info(n_workers=-1)["workers"]
+    per_host: dict[str, int] = {}
+    for address in workers:
+        host = get_address_host(address)
+        per_host[host] = per_host.get(host, 0) + 1
+    client.register_plugin(Setup(per_host, variant, dr_threads), name=PLUGIN_NAME)
+
+
+def dr_thread_share(workers_on_host: int, cores: int | None = None) -> int:
+    """Dr.Jit threads of one of ``workers_on_host`` workers: its share of the cores, >= 1."""
+    cores = cores or os.cpu_count() or 1
+    return max(1, cores // max(1, workers_on_host))
+
+
+# ---------------------------------------------------------------- on the workers
+
+try:
+    from distributed.diagnostics.plugin import WorkerPlugin as _WorkerPlugin
+except ImportError:  # pragma: no cover - dask is a dependency
+    _WorkerPlugin = object
+
+
+class Setup(_WorkerPlugin):
+    """Worker set-up: SIGINT ignored, Dr.Jit thread pool sized, variant and plugins."""
+
+    def __init__(self, workers_per_host: dict[str, int], variant: str | None = None,
+                 dr_threads: int | None = None):
+        self.workers_per_host = dict(workers_per_host)
+        self.variant = variant
+        self.dr_threads = dr_threads
+
+    def setup(self, worker):
+        from distributed.comm import get_address_host
+
+        with contextlib.suppress(ValueError):  # only possible on the main thread
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        quiet_logs()
+        threads = self.dr_threads or dr_thread_share(
+            self.workers_per_host.get(get_address_host(worker.address), 1))
+        _state.dr_threads = threads
+        if self.variant:
+            ensure_variant(self.variant)
+        else:
+            from spectrace.llvm import configure_libllvm
+
+            configure_libllvm()
+        import drjit as dr
+
+        dr.set_thread_count(threads)
+
+
+@dataclass
+class _WorkerState:
+    variant: str | None = None
+    dr_threads: int | None = None
+    setups: int = 0  # how often set_variant ran in this process
+    scenes: dict = field(default_factory=dict)
+
+
+_state = _WorkerState()
+_SCENE_CACHE_SIZE = 2
+
+
+def ensure_variant(variant: str) -> None:
+    """Set ``variant`` and register the plugins, unless this process already did."""
+    if _state.variant == variant:
+        return
+    import spectrace
+
+    spectrace.set_variant(variant)
+    _state.variant = variant
+    _state.setups += 1
+    _state.scenes.clear()
+    if _state.dr_threads:
+        import drjit as dr
+
+        dr.set_thread_count(_state.dr_threads)
+
+
+def worker_info() -> dict:
+    """What a worker process runs with (for tests and ``--verbose`` reports)."""
+    info = {"pid": os.getpid(), "variant": _state.variant, "setups": _state.setups,
+            "kernel_cache": str(Path.home() / ".drjit"), "dr_threads": None}
+    if _state.variant:
+        import drjit as dr
+
+        info["dr_threads"] = dr.thread_count()
+    return info
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    """A scene as a worker loads it: absolute path, ``-D`` parameters, variant, film bands."""
+
+    path: str
+    params: tuple[tuple[str, str], ...] = ()
+    variant: str = "llvm_ad_spectral"
+    bands: int | None = None  # --film spectral: that many bands (spectrace.spectral_film)
+
+    @classmethod
+    def make(cls, path, params: dict | None = None, variant: str = "llvm_ad_spectral",
+             bands: int | None = None) -> SceneSpec:
+        items = tuple((str(k), str(v)) for k, v in (params or {}).items())
+        return cls(str(Path(path).resolve()), items, variant, bands)
+
+    def load(self):
+        """Set the variant and load the scene (UserError for the user's mistakes)."""
+        from spectrace.scene import load_scene, read_scene_xml
+
+        ensure_variant(self.variant)
+        params = dict(self.params)
+        if self.bands is None:
+            return load_scene(self.path, params)
+        from spectrace.spectral_film import replace_film
+
+        root = read_scene_xml(self.path)
+        replace_film(root, bands=self.bands)
+        return load_scene(self.path, params, root=root)
+
+
+def _cached_scene(spec: SceneSpec):
+    """The loaded scene of ``spec``; the last few are kept (passes of one render share it)."""
+    try:
+        mtime = os.stat(spec.path).st_mtime_ns
+    except OSError:
+        mtime = None
+    key = (spec, mtime)
+    scene = _state.scenes.get(key)
+    if scene is None:
+        scene = spec.load()
+        while len(_state.scenes) >= _SCENE_CACHE_SIZE:
+            _state.scenes.pop(next(iter(_state.scenes)))
+        _state.scenes[key] = scene
+    return scene
+
+
+def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> np.ndarray:
+    """Task: pass ``index`` (``n`` spp) of a render with seed ``seed``, as float32 (H, W, C).
+
+    The same ``mi.render`` call, with the same pass seed, as the local loop's pass
+    ``index`` (:func:`spectrace.passes.render_passes`).
+    """
+    import mitsuba as mi
+
+    from spectrace.passes import pass_seed
+
+    scene = _cached_scene(spec)
+    img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
+    return np.asarray(img, dtype=np.float32)
+
+
+def render_image(spec: SceneSpec, spp: int | None, seed: int, spp_per_pass: int) -> dict:
+    """Task: one whole image, as ``spectrace render`` makes it (the same pass loop).
+
+    Returns ``{"image": float32 (H, W, 3) linear sRGB (a mono film as grey), "spp",
+    "seconds", "render_seconds", "nonfinite"}``, or
+    ``{"error": message}`` for a user's mistake (a bad parameter value): that is an
+    answer, not a failure Dask should retry.
+    """
+    from spectrace.images import as_rgb
+    from spectrace.passes import render_passes, scene_spp
+
+    start = time.perf_counter()
+    try:
+        scene = spec.load()
+        n = spp or scene_spp(scene)
+        result = render_passes(scene, n, seed=seed, spp_per_pass=spp_per_pass)
+    except UserError as e:
+        return {"error": str(e)}
+    return {"image": np.ascontiguousarray(as_rgb(result.image)), "spp": result.spp,
+            "seconds": time.perf_counter() - start, "render_seconds": result.seconds,
+            "nonfinite": result.nonfinite}

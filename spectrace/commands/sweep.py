@@ -1,0 +1,93 @@
+"""``spectrace sweep``: render the Cartesian product of a scene's ``<default>`` values.
+
+A thin command over :mod:`spectrace.sweep` (the grid, the files) and
+:mod:`spectrace.cluster` (the Dask cluster): parse, check, render with a progress bar over
+the images, print a summary. Exit status: 0 when every image is there, 1 when some
+combinations failed (each is named on stderr; the others are written), 2 for a user's
+mistake found before rendering (nothing written), 130 on Ctrl-C (finished images are kept;
+a re-run skips them).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from spectrace import DEFAULT_VARIANT
+from spectrace.errors import UserError
+from spectrace.passes import DEFAULT_SPP_PER_PASS
+
+EXIT_FAILED = 1
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scene", help="Mitsuba XML scene file")
+    parser.add_argument("-D", dest="defines", action="append", default=[],
+                        metavar="NAME=V1,V2,...",
+                        help="values of the scene parameter $NAME (an XML <default>), "
+                        "repeatable: the sweep is the Cartesian product")
+    parser.add_argument("--variants", help=f"Mitsuba variants, comma-separated "
+                        f"(default {DEFAULT_VARIANT})")
+    parser.add_argument("--seeds", help="random seeds, comma-separated (default 0)")
+    parser.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
+    parser.add_argument("--spp-per-pass", type=int, default=DEFAULT_SPP_PER_PASS,
+                        help=f"samples per pixel in one pass (default {DEFAULT_SPP_PER_PASS})")
+    parser.add_argument("-o", "--output", metavar="OUTDIR",
+                        help="output folder (default out/sweep-<scene>)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N",
+                       help="worker processes of the local Dask cluster (default: "
+                       "spectrace.cluster.DEFAULT_WORKERS)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="use the Dask cluster of this scheduler (tcp://host:8786); its "
+                       "workers must read the scene and its assets at the same path")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+
+
+def run(args) -> int:
+    from spectrace import sweep
+    from spectrace.cluster import connect
+
+    params = sweep.parse_sweep_defines(args.defines)
+    variants = sweep.parse_list(args.variants, "--variants")
+    seeds = sweep.parse_list(args.seeds, "--seeds", int)
+    if args.workers is not None and args.workers < 1:
+        raise UserError(f"--workers must be a positive integer (got {args.workers})")
+    grid = sweep.Grid.make(args.scene, params, variants, seeds, args.spp, args.spp_per_pass)
+    outdir = Path(args.output) if args.output else Path("out") / f"sweep-{grid.scene.stem}"
+    outcomes = sweep.plan(grid, outdir)
+    todo = sum(o.status != "skipped" for o in outcomes)
+    shape = " x ".join(str(n) for n in grid.shape) or "1"
+    heading = (f"sweeping {grid.scene.name}: {len(outcomes)} images ({shape}), {todo} to "
+               f"render -> {outdir}")
+    if not todo:  # nothing to render: no cluster
+        print(heading, file=sys.stderr, flush=True)
+        outcomes = sweep.run(grid, None, outdir, outcomes=outcomes)
+    else:
+        with connect(args.workers, args.scheduler, variant=grid.variants[0]) as client:
+            workers = len(client.scheduler_info(n_workers=-1)["workers"])
+            print(f"{heading} on {workers} workers", file=sys.stderr, flush=True)
+            outcomes = _run_with_progress(sweep, grid, client, outdir, outcomes, args.quiet)
+    counts = {s: sum(o.status == s for o in outcomes) for s in ("rendered", "skipped", "failed")}
+    seconds = sum(o.seconds for o in outcomes if o.status == "rendered")
+    print(f"{grid.scene.name}: {counts['rendered']} rendered ({seconds:.2f} s of renders), "
+          f"{counts['skipped']} already done, {counts['failed']} failed -> "
+          f"{outdir / sweep.RESULTS}, {outdir / sweep.SHEET}")
+    for o in outcomes:
+        if o.status == "failed":
+            print(f"error: {o.combo.label()}: {o.error}", file=sys.stderr)
+    return EXIT_FAILED if counts["failed"] else 0
+
+
+def _run_with_progress(sweep, grid, client, outdir, outcomes, quiet):
+    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn,
+                               TimeRemainingColumn)
+
+    quiet = quiet or not sys.stderr.isatty()
+    with Progress("[progress.description]{task.description}", BarColumn(),
+                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                  disable=quiet, transient=True) as progress:
+        task = progress.add_task("images", total=len(outcomes))
+        return sweep.run(grid, client, outdir, keep_images=False, outcomes=outcomes,
+                         on_image=lambda o: progress.advance(task))

@@ -1,0 +1,92 @@
+"""``spectrace sweep`` end to end: files, equality with ``spectrace render``, bad input."""
+
+from __future__ import annotations
+
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectrace.cli import main
+from spectrace.images import read_exr
+
+ROOT = Path(__file__).resolve().parents[2]
+SHOWCASE = ROOT / "scenes" / "showcase.xml"
+VARIANT = "llvm_ad_rgb"
+EXIT_USAGE = 2
+EXIT_FAILED = 1
+#: Equal seeds agree up to the order of the film's float additions.
+SAME_SEED_RTOL = 1e-5
+SAME_SEED_ATOL = 1e-6
+#: An unreachable scheduler must be answered within this many seconds (issue 13).
+UNREACHABLE_LIMIT_S = 30
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """The address of a LocalCluster of two worker processes."""
+    from spectrace import cluster
+
+    local = cluster.start_local(2)
+    yield local.scheduler_address
+    local.close()
+
+
+def assert_one_line_error(capsys, *words):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: "), err
+    for word in words:
+        assert word in err[0], (word, err[0])
+
+
+@pytest.mark.parametrize(("defines", "word"), [
+    (["-D", "res="], "no values"),
+    (["-D", "nosuch=1,2"], "nosuch"),
+])
+def test_bad_grid_exits_2_and_writes_nothing(tmp_path, capsys, defines, word):
+    """No values, or a name that is not a <default>: exit 2, one line, no folder."""
+    out = tmp_path / "sweep"
+    code = main(["sweep", str(SHOWCASE), *defines, "-o", str(out), "-q"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, word)
+    assert not out.exists()
+
+
+def test_unreachable_scheduler_exits_2_quickly(tmp_path, capsys, monkeypatch):
+    """Nothing listens on port 1: exit 2 within the limit, one line, nothing written
+    (the connect timeout shortened here; its default is within the limit too)."""
+    from spectrace import cluster
+
+    assert cluster.CONNECT_TIMEOUT_S < UNREACHABLE_LIMIT_S
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 2)
+    out = tmp_path / "sweep"
+    start = time.perf_counter()
+    code = main(["sweep", str(SHOWCASE), "-D", "res=16", "-o", str(out), "-q",
+                 "--scheduler", "tcp://127.0.0.1:1"])
+    assert time.perf_counter() - start < UNREACHABLE_LIMIT_S
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "tcp://127.0.0.1:1")
+    assert not out.exists()
+
+
+def test_sweep_writes_images_equal_to_render_and_names_failures(tmp_path, capsys, scheduler):
+    """On a cluster: res=16 is written as `spectrace render -D res=16 -D max_depth=2` writes
+    it (same seed), res=abc fails alone and is named; exit status 1."""
+    out = tmp_path / "sweep"
+    code = main(["sweep", str(SHOWCASE), "-D", "res=16,abc", "-D", "max_depth=2",
+                 "--variants", VARIANT, "--seeds", "3", "--spp", "4", "-o", str(out), "-q",
+                 "--scheduler", scheduler])
+    assert code == EXIT_FAILED
+    err = capsys.readouterr().err
+    assert "error: res=abc" in err and "Traceback" not in err
+    with open(out / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 1 and rows[0]["res"] == "16" and rows[0]["seed"] == "3"
+    assert (out / "sheet.png").is_file() and (out / rows[0]["file"]).with_suffix(".png").is_file()
+    ref = tmp_path / "ref.exr"
+    assert main(["render", str(SHOWCASE), "-D", "res=16", "-D", "max_depth=2", "--seed", "3",
+                 "--spp", "4", "--variant", VARIANT, "-o", str(ref), "-q"]) == 0
+    np.testing.assert_allclose(read_exr(out / rows[0]["file"])[0], read_exr(ref)[0],
+                               rtol=SAME_SEED_RTOL, atol=SAME_SEED_ATOL)

@@ -1,0 +1,113 @@
+"""Malformed photometric files raise UserError: one line naming the file and the field."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from spectrace.errors import UserError
+from spectrace.photometry import generate as G
+from spectrace.photometry import read_photometry
+
+GAMMA = np.arange(0.0, 90.001, 15.0)
+
+
+def good_ies(tmp_path, **kwargs):
+    h = G.horizontal_angles("quadrant", 45.0)
+    return G.write_ies(tmp_path / "bad.ies", GAMMA, h, np.full((h.size, GAMMA.size), 7.0),
+                       newline="\n", **kwargs)
+
+
+def numbers_of(path):
+    head, numbers = path.read_text("latin-1").split("TILT=NONE\n")
+    return head + "TILT=NONE\n", numbers.split()
+
+
+def assert_error(path, *words):
+    with pytest.raises(UserError) as info:
+        read_photometry(path)
+    message = str(info.value)
+    assert "\n" not in message
+    assert str(path) in message
+    for word in words:
+        assert word in message, message
+
+
+def test_truncated_ies(tmp_path):
+    """A file cut inside the candela table says it ends early, naming the candela values."""
+    path = good_ies(tmp_path)
+    head, nums = numbers_of(path)
+    path.write_text(head + " ".join(nums[:-5]))
+    assert_error(path, "candela values", "truncated")
+
+
+def test_wrong_counts(tmp_path):
+    """More numbers than the header's counts call for: 'wrong counts'."""
+    path = good_ies(tmp_path)
+    head, nums = numbers_of(path)
+    path.write_text(head + " ".join(nums + ["7", "7"]))
+    assert_error(path, "wrong counts")
+
+
+def test_negative_candela(tmp_path):
+    """A negative intensity is named with its angles."""
+    path = good_ies(tmp_path)
+    head, nums = numbers_of(path)
+    nums[-1] = "-3"
+    path.write_text(head + " ".join(nums))
+    assert_error(path, "negative", "vertical angle 90")
+
+
+def test_non_numeric_value(tmp_path):
+    """A word among the numbers is named with the field it stands in."""
+    path = good_ies(tmp_path)
+    head, nums = numbers_of(path)
+    nums[3] = "twelve"  # number of vertical angles
+    path.write_text(head + " ".join(nums))
+    assert_error(path, "number of vertical angles", "'twelve' is not a number")
+
+
+def test_type_a_is_refused(tmp_path):
+    """Photometric type 3 (Type A, automotive) is refused by name."""
+    path = good_ies(tmp_path)
+    head, nums = numbers_of(path)
+    nums[5] = "3"
+    path.write_text(head + " ".join(nums))
+    assert_error(path, "photometric type", "Type A")
+
+
+def test_missing_tilt_file(tmp_path):
+    """TILT=<file> naming a file that does not exist beside the IES file."""
+    path = good_ies(tmp_path)
+    path.write_text(path.read_text().replace("TILT=NONE", "TILT=nowhere.tlt"))
+    assert_error(path, "TILT", "nowhere.tlt")
+
+
+def test_unknown_format(tmp_path):
+    """An IES header of an unknown edition, and a file that is neither IES nor EULUMDAT."""
+    path = good_ies(tmp_path)
+    path.write_text(path.read_text().replace("IESNA:LM-63-2002", "IESNA:LM-63-2030"))
+    assert_error(path, "unknown IES version")
+    other = tmp_path / "notes.txt"
+    other.write_text("hello\n1 2 3\n")
+    assert_error(other, "unknown format")
+    assert_error(tmp_path / "absent.ies", "cannot read")
+
+
+def test_bad_horizontal_range(tmp_path):
+    """Type C horizontal angles 0..120 are no LM-63 symmetry."""
+    path = G.write_ies(tmp_path / "h.ies", GAMMA, [0, 60, 120], np.ones((3, GAMMA.size)))
+    assert_error(path, "horizontal angles", "0..120")
+
+
+def test_ldt_errors(tmp_path):
+    """EULUMDAT: a cut file, an unknown symmetry indicator, and a non-numeric intensity."""
+    path = G.write_ldt(tmp_path / "bad.ldt", G.cos_power(100.0, 2), isym=1,
+                       gamma_angles=GAMMA)
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join(lines[:-2]))
+    assert_error(path, "intensities", "truncated")
+    path.write_text("\n".join([lines[0], lines[1], "7", *lines[3:]]))
+    assert_error(path, "line 3", "Isym")
+    path.write_text("\n".join([*lines[:-1], "lots"]))
+    assert_error(path, "'lots' is not a number")

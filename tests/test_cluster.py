@@ -1,0 +1,96 @@
+"""spectrace.cluster and the distributed pass loop, on a LocalCluster of two worker processes.
+
+Oracles: the local pass loop (spectrace.passes.render_passes) with the same seed, and the
+machine's core count.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectrace import cluster
+from spectrace.cluster import SceneSpec
+from spectrace.passes import render_passes, render_passes_distributed
+
+ROOT = Path(__file__).resolve().parents[1]
+SHOWCASE = ROOT / "scenes" / "showcase.xml"
+PARAMS = {"res": "16", "max_depth": "3"}
+VARIANT = "llvm_ad_rgb"
+#: The film accumulates samples with parallel atomic adds: equal seeds agree up to the
+#: order of float additions.
+SAME_SEED_ATOL = 1e-5
+SAME_SEED_RTOL = 1e-5
+
+
+@pytest.fixture(scope="module")
+def client():
+    """Two worker processes, one Dask thread each, set up for llvm_ad_rgb."""
+    from distributed import Client
+
+    local = cluster.start_local(2)
+    c = Client(local, set_as_default=False)
+    cluster.setup_workers(c, variant=VARIANT)
+    yield c
+    c.close()
+    local.close()
+
+
+def local_render(spp, seed, spp_per_pass):
+    import spectrace
+    from spectrace.scene import load_scene
+
+    spectrace.set_variant(VARIANT)
+    return render_passes(load_scene(SHOWCASE, PARAMS), spp, seed=seed, spp_per_pass=spp_per_pass)
+
+
+def test_thread_share_never_oversubscribes():
+    """Workers on one host get cores // workers Dr.Jit threads each (at least one)."""
+    assert cluster.dr_thread_share(2, cores=16) == 8
+    assert cluster.dr_thread_share(3, cores=16) == 5
+    assert cluster.dr_thread_share(4, cores=2) == 1
+
+
+def test_workers_are_set_up_once_with_their_share_of_the_cores(client):
+    """Each worker process set its variant once, runs cores // 2 Dr.Jit threads and uses
+    the client's kernel cache folder."""
+    info = client.run(cluster.worker_info)
+    assert len(info) == 2 and len({i["pid"] for i in info.values()}) == 2
+    for i in info.values():
+        assert i["variant"] == VARIANT and i["setups"] == 1
+        assert i["dr_threads"] == cluster.dr_thread_share(2)
+        assert i["kernel_cache"] == str(Path.home() / ".drjit")
+
+
+def test_distributed_passes_equal_the_local_loop(client):
+    """The same pass seeds, summed with sample weights in pass order: the local image."""
+    spec = SceneSpec.make(SHOWCASE, PARAMS, VARIANT)
+    remote = render_passes_distributed(client, spec, 24, seed=7, spp_per_pass=4)
+    local = local_render(24, 7, 4)
+    assert (remote.spp, remote.passes, remote.interrupted) == (24, 6, False)
+    np.testing.assert_allclose(remote.image, local.image, rtol=SAME_SEED_RTOL,
+                               atol=SAME_SEED_ATOL)
+
+
+def test_a_worker_killed_mid_render_loses_nothing(client):
+    """SIGKILL one worker process after the first pass: its passes run again elsewhere and
+    the image is still the local loop's, with every sample."""
+    pids = list(client.run(os.getpid).values())
+    killed = []
+
+    def on_pass(done, total):
+        if not killed:
+            os.kill(pids[0], signal.SIGKILL)
+            killed.append(pids[0])
+
+    spec = SceneSpec.make(SHOWCASE, PARAMS, VARIANT)
+    remote = render_passes_distributed(client, spec, 32, seed=11, spp_per_pass=4,
+                                       on_pass=on_pass)
+    assert killed and remote.spp == 32 and not remote.interrupted
+    assert pids[0] not in client.run(os.getpid).values()  # it did die
+    np.testing.assert_allclose(remote.image, local_render(32, 11, 4).image,
+                               rtol=SAME_SEED_RTOL, atol=SAME_SEED_ATOL)

@@ -1,0 +1,83 @@
+"""A lean start-up: a command imports colour-science, scipy, matplotlib or Dask only when
+it uses them (issue 12 item 1).
+
+Checked on the modules a fresh process holds when the command ends (``sys.modules``),
+which is what ``python -X importtime`` lists and more: importtime does not see modules
+imported through ``importlib.import_module``, which is how the command line loads its
+commands."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from spectrace.cli import COMMANDS
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENE = ROOT / "scenes" / "showcase.xml"
+#: Libraries that cost a second or more to import and that rendering does not need.
+HEAVY = ("colour", "scipy", "matplotlib", "dask", "distributed", "xarray", "pandas")
+#: Runs the command line in a fresh interpreter, then writes the names in sys.modules.
+RUNNER = """
+import json, sys
+from spectrace.cli import main
+try:
+    code = main(sys.argv[2:])
+finally:  # --help ends in SystemExit
+    json.dump(sorted(sys.modules), open(sys.argv[1], "w"))
+sys.exit(code)
+"""
+
+
+def imported_modules(args: list[str], cwd: Path) -> tuple[set[str], subprocess.CompletedProcess]:
+    """The modules ``spectrace ARGS`` has imported when it ends, and the run."""
+    listing = cwd / "modules.json"
+    done = subprocess.run([sys.executable, "-c", RUNNER, str(listing), *args],
+                          capture_output=True, text=True, cwd=cwd, timeout=300)
+    modules = set(json.loads(listing.read_text())) if listing.is_file() else set()
+    return modules, done
+
+
+def top_level(modules: set[str]) -> set[str]:
+    return {name.split(".")[0] for name in modules}
+
+
+@pytest.mark.parametrize("variant", ["llvm_ad_rgb", "llvm_ad_spectral"])
+def test_render_imports_no_heavy_library(tmp_path, variant):
+    """``spectrace render`` of a scene (EXR and PNG written) imports mitsuba but none of
+    colour-science, scipy, matplotlib, Dask: the PNG's sRGB encoding is numpy's."""
+    out = tmp_path / "x.exr"
+    modules, done = imported_modules(
+        ["render", str(SCENE), "-o", str(out), "--variant", variant, "--spp", "1",
+         "-D", "res=8", "-q"], tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert out.is_file() and out.with_suffix(".png").is_file()
+    assert "mitsuba" in modules  # the import list was read
+    assert top_level(modules).isdisjoint(HEAVY), sorted(top_level(modules) & set(HEAVY))
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_command_help_imports_only_its_command(tmp_path, command):
+    """``spectrace COMMAND --help`` imports that command's module, no other command, no
+    mitsuba and no heavy library."""
+    modules, done = imported_modules([command, "--help"], tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert COMMANDS[command][0] in modules
+    others = {module for name, (module, _) in COMMANDS.items() if name != command}
+    assert not modules & others, sorted(modules & others)
+    assert top_level(modules).isdisjoint({"mitsuba", "drjit", *HEAVY})
+
+
+def test_srgb_encoding_without_colour_science():
+    """``spectrace.spectral.srgb`` (the PNG's transfer function) and the package's lazy
+    names load numpy only; the colorimetry names bring colour-science when first used."""
+    code = ("import sys; from spectrace.spectral import encode_srgb; encode_srgb(0.5); "
+            "assert 'colour' not in sys.modules, 'colour imported'; "
+            "from spectrace.spectral import spd_to_xyz; assert 'colour' in sys.modules")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
