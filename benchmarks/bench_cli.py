@@ -11,15 +11,25 @@ EXR. The scenes use only Mitsuba's built-in plugins (the executable knows no oth
 * ``spheres``: the project's mesh sphere (``scenes/meshes/sphere_high.obj``) and an
   analytic sphere, rough plastic, under a point light and a constant sky, ``path``;
 * ``fog_volpath``: the project's ``scenes/fog_volpath.xml`` (volpath in a homogeneous
-  medium), at 64 spp.
+  medium), at 64 spp;
+* ``tiny``: the Cornell box at 32 x 32, 4 spp: next to no rendering, so the ratio is that
+  of the start-ups (imports, plugin registration, writing the files).
 
 Each (scene, variant) pair runs once per program to fill the kernel cache, then
 ``--repeats`` rounds alternate the two programs (ABBA order, so drift hits both alike).
 The table gives the medians and the median over rounds of the ratios spectrace / mitsuba
-(aim: wall time within 1.05x, peak memory within 1.3x).
+(aim: wall time within 1.05x, peak memory within 1.3x), and the ratio of the fastest runs
+("best ratio"), the steadier figure on a machine that others load too.
+
+Mitsuba's ``mitsuba`` is a Python script that imports mitsuba (no variant) and then runs
+the C++ executable in a child process: its wall time is the two together, its peak memory
+the larger of the two (``wait4`` reports a child's largest descendant). ``spectrace render``
+does all in one process.
 
     .venv/bin/python benchmarks/bench_cli.py [--repeats 5] [--spp-per-pass K] [--scenes a,b]
         [--variants llvm_ad_rgb,llvm_ad_spectral]
+
+A quick look (about a minute): ``--scenes tiny,fog_volpath --repeats 3``.
 """
 
 from __future__ import annotations
@@ -146,6 +156,7 @@ def scenes(folder: Path) -> dict[str, tuple[Path, list[str]]]:
         "cornell_box": (cornell, []),
         "spheres": (spheres, []),
         "fog_volpath": (ROOT / "scenes" / "fog_volpath.xml", ["spp=64"]),
+        "tiny": (cornell, ["res=32", "spp=4"]),
     }
 
 
@@ -177,7 +188,7 @@ def commands(xml: Path, defines: list[str], variant: str, out: Path, spp_per_pas
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--scenes", default="cornell_box,spheres,fog_volpath",
+    parser.add_argument("--scenes", default="cornell_box,spheres,fog_volpath,tiny",
                         help="comma-separated scenes to run (default: all)")
     parser.add_argument("--variants", default=",".join(VARIANTS))
     parser.add_argument("--spp-per-pass", type=int, default=None,
@@ -204,13 +215,15 @@ def main() -> int:
                     order = list(pair) if repeat % 2 == 0 else list(pair)[::-1]
                     for name in order:
                         times[name].append(run(pair[name], env))
-                wall = [s[0] / m[0] for s, m in zip(times["spectrace"], times["mitsuba"])]
-                memory = [s[1] / m[1] for s, m in zip(times["spectrace"], times["mitsuba"])]
+                pairs = list(zip(times["spectrace"], times["mitsuba"], strict=True))
+                wall = [s[0] / m[0] for s, m in pairs]
+                memory = [s[1] / m[1] for s, m in pairs]
                 rows.append((
                     scene, variant,
                     statistics.median(t for t, _ in times["mitsuba"]),
                     statistics.median(t for t, _ in times["spectrace"]),
                     statistics.median(wall),
+                    min(t for t, _ in times["spectrace"]) / min(t for t, _ in times["mitsuba"]),
                     statistics.median(m for _, m in times["mitsuba"]),
                     statistics.median(m for _, m in times["spectrace"]),
                     statistics.median(memory),
@@ -220,6 +233,7 @@ def main() -> int:
           f"runs (spectrace --spp-per-pass {per_pass})")
     print_table([("scene", "<12", ""), ("variant", "<17", ""), ("mitsuba [s]", ">11", ".2f"),
                  ("spectrace [s]", ">13", ".2f"), ("wall ratio", ">10", ".2f"),
+                 ("best ratio", ">10", ".2f"),
                  ("mitsuba [MiB]", ">13", ".0f"), ("spectrace [MiB]", ">15", ".0f"),
                  ("memory ratio", ">12", ".2f")], rows)
     return 0

@@ -39,7 +39,7 @@ def read_photometry(path) -> Photometry:
 
     path = Path(path)
     try:
-        data = path.read_bytes()
+        data = ies.read_file(path)
     except OSError as e:
         raise UserError(f"{path}: cannot read photometric file: {e.strerror or e}") from None
     text = ies.decode(data)

@@ -24,12 +24,14 @@ as its absolute value. Decimal commas ("0,5") are accepted in numbers.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
 from spectrace.errors import UserError
 
+from .ies import check_finite, count_text
 from .model import Photometry
 
 _SYMMETRY = {0: "none", 1: "rotational", 2: "bilateral_0_180", 3: "bilateral_90_270",
@@ -40,7 +42,8 @@ MM_TO_M = 1e-3
 def parse_ldt(path: str | Path, text: str) -> Photometry:
     """Parse the text of a EULUMDAT file (``path`` names it in messages)."""
     path = Path(path)
-    lines = text.splitlines()
+    # "\r\r\n": CRLF converted to CRLF once more (a text-mode transfer) is one line end
+    lines = re.sub(r"\r+\n", "\n", text).splitlines()
     reader = _Lines(lines, path)
     company = reader.text(1, "company identification")
     reader.integer(2, "type indicator Ityp", choices=(0, 1, 2, 3))
@@ -83,16 +86,18 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     if isym in (2,) and mc % 2 or isym in (3, 4) and mc % 4:
         raise UserError(f"{path}: line 4 (number of C-planes Mc): {mc} does not divide for "
                         f"symmetry indicator Isym {isym}")
-    stored = stored_planes(isym, mc)
+    n_stored = stored_plane_count(isym, mc)
     rest = 27 + 6 * n_sets  # first line after the lamp sets
     tokens = [t for line in lines[rest - 1 :] for t in line.split()]
-    need = 10 + mc + ng + stored.size * ng
-    if len(tokens) < need:
+    need = 10 + mc + ng + n_stored * ng
+    if len(tokens) < need:  # before allocating: a corrupt count may be astronomically large
         raise UserError(
-            f"{path}: intensities: the file ends early (truncated: {need} numbers expected "
-            f"after the lamp sets - 10 direct ratios, {mc} C-angles, {ng} gamma angles, "
-            f"{stored.size} x {ng} intensities - {len(tokens)} found)"
+            f"{path}: intensities: the file ends early (truncated: {count_text(need)} numbers "
+            f"expected after the lamp sets - 10 direct ratios, {count_text(mc)} C-angles, "
+            f"{count_text(ng)} gamma angles, {count_text(n_stored)} x {count_text(ng)} "
+            f"intensities - {len(tokens)} found)"
         )
+    stored = stored_planes(isym, mc)
     if len(tokens) > need:
         raise UserError(
             f"{path}: intensities: wrong counts: Mc = {mc}, Ng = {ng}, Isym = {isym} call for "
@@ -116,6 +121,7 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
         order = np.argsort(horizontal)
         horizontal, table = horizontal[order], table[order]
     factor = sets[0]["flux"] / 1000.0 * conversion
+    check_finite(path, table, factor)
     keywords = {
         "MANUFAC": company, "TEST": report, "LUMINAIRE": luminaire, "LUMCAT": number,
         "FILENAME": file_name, "ISSUEDATE": date, "LAMP": sets[0]["type"],
@@ -138,6 +144,11 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
         input_watts=sets[0]["watts"],
         opening_m=(dims[1], dims[0], dims[2]),
     )
+
+
+def stored_plane_count(isym: int, mc: int) -> int:
+    """How many C-planes a file with symmetry ``isym`` and ``mc`` planes stores."""
+    return {0: mc, 1: 1, 2: mc // 2 + 1, 3: mc // 2 + 1, 4: mc // 4 + 1}[isym]
 
 
 def stored_planes(isym: int, mc: int) -> np.ndarray:

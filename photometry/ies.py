@@ -63,6 +63,29 @@ _TYPES = {1: "C", 2: "B", 3: "A"}
 FEET_TO_M = 0.3048
 
 
+#: The largest photometric or tilt file read (bytes): real ones have a few kB to a few MB.
+MAX_FILE_BYTES = 64 * 2**20
+
+
+def read_file(path: Path) -> bytes:
+    """The bytes of a regular file of at most :data:`MAX_FILE_BYTES`; OSError otherwise (a
+    device such as /dev/zero or a FIFO would never end, or block)."""
+    import errno
+    import os
+    import stat
+
+    # O_NONBLOCK: opening a FIFO does not wait for a writer (no effect on regular files)
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    with os.fdopen(fd, "rb") as f:  # a missing file: OSError above; a folder: at read
+        info = os.fstat(f.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise OSError(errno.EINVAL, "not a regular file")
+        if info.st_size > MAX_FILE_BYTES:
+            raise OSError(errno.EFBIG, f"too large for a photometric file "
+                                       f"({info.st_size} bytes, at most {MAX_FILE_BYTES})")
+        return f.read(MAX_FILE_BYTES + 1)
+
+
 def decode(data: bytes) -> str:
     """UTF-8 if the bytes are valid UTF-8, else Latin-1 (which takes any byte)."""
     try:
@@ -109,7 +132,7 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
     elif tilt_spec.upper() != "NONE":
         tilt_path = path.parent / tilt_spec
         try:
-            tilt_text = decode(tilt_path.read_bytes())
+            tilt_text = decode(read_file(tilt_path))
         except OSError as e:
             raise UserError(
                 f"{path}: TILT: cannot read tilt file {tilt_spec!r} ({tilt_path}): "
@@ -170,6 +193,7 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
         )
     symmetry = _symmetry(path, ptype, vertical, horizontal)
     factor = multiplier * ballast * blpf * tilt_factor
+    check_finite(path, candela, factor)
     return Photometry(
         path=path,
         format=fmt,
@@ -190,6 +214,24 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
         input_watts=watts,
         opening_m=opening,
     )
+
+
+def count_text(n: int) -> str:
+    """A count for a message: its digits, or its order of magnitude when absurdly long."""
+    digits = str(n)
+    return digits if len(digits) <= 12 else f"about 10^{len(digits) - 1}"
+
+
+def check_finite(path: Path, values: np.ndarray, factor: float) -> None:
+    """UserError unless ``values * factor`` (the candela table with the file's factors
+    applied) is finite: huge factors or values must not make infinite intensities."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        ok = np.isfinite(factor) and bool(np.all(np.isfinite(values * factor)))
+    if not ok:
+        raise UserError(
+            f"{path}: candela values: the intensities times the file's factors ({factor:g}) "
+            "overflow (not finite numbers)"
+        )
 
 
 def _keywords(lines: list[str]) -> dict[str, str]:
@@ -250,6 +292,12 @@ class _Tokens:
         return int(value)
 
     def numbers(self, n: int, field: str) -> np.ndarray:
+        left = len(self.tokens) - self.pos
+        if n > left:  # before allocating: a corrupt count may be astronomically large
+            raise UserError(
+                f"{self.path}: {field}: the file ends early (truncated: {count_text(n)} "
+                f"expected, {left} found)"
+            )
         out = np.empty(n)
         for k in range(n):
             if self.pos >= len(self.tokens):

@@ -34,6 +34,13 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
         except UserError:
             if name.startswith("llvm"):
                 raise
+    from spectrace.signals import defer_sigint
+
+    with defer_sigint():  # Ctrl-C inside Mitsuba's import is raised after it
+        _set_variant(name)
+
+
+def _set_variant(name: str) -> None:
     import mitsuba as mi
 
     if name not in mi.variants():
@@ -79,14 +86,18 @@ def _plain_log_when_piped(mi) -> None:
     logger.add_appender(_plain_appender)
 
 
-# The pass loop, as ``spectrace.render(scene, spp=..., seed=..., spp_per_pass=...)``.
-# Bound after importing the submodule of the same name, so the name is the function.
-from spectrace.passes import RenderResult, render_passes  # noqa: E402
+def __getattr__(name):
+    """The names imported on first use, so that ``import spectrace`` stays light.
 
-render = render_passes
+    ``spectrace.render(scene, spp=..., seed=..., spp_per_pass=...)`` is the pass loop
+    (:func:`spectrace.passes.render_passes`) and ``RenderResult`` its result;
+    ``spectrace.sweep(scene, ...)`` imports Dask.
+    """
+    if name in ("render", "RenderResult"):
+        from spectrace.passes import RenderResult, render_passes
 
-
-def __getattr__(name):  # spectrace.sweep(...): imported on first use, as it imports dask
+        globals().update(render=render_passes, RenderResult=RenderResult)
+        return globals()[name]
     if name == "sweep":
         import spectrace.sweep as module  # a callable module: spectrace.sweep(scene, ...)
 

@@ -16,15 +16,22 @@ from spectrace.errors import UserError
 
 #: subcommand -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
-    "render": ("spectrace.commands.render", "render a Mitsuba XML scene in passes"),
-    "doctor": ("spectrace.commands.doctor", "report variants, libLLVM and whether the backend works"),
-    "compare": ("spectrace.commands.compare", "CIEDE2000 between two images, scenes or variants"),
-    "furnace": ("spectrace.commands.furnace", "white furnace: directional albedo of a BSDF vs incident angle"),
-    "spd": ("spectrace.commands.spd", "XYZ, xy, CCT, CRI and sRGB colour of an SPD file or dataset"),
-    "ies": ("spectrace.commands.ies", "flux, peak, beam angle and polar plot of an IES or EULUMDAT file"),
+    "render": ("spectrace.commands.render", "render Mitsuba XML scenes in passes"),
+    "doctor": ("spectrace.commands.doctor",
+               "report variants, libLLVM and whether the backend works"),
+    "compare": ("spectrace.commands.compare",
+                "CIEDE2000 between two images, scenes or variants"),
+    "furnace": ("spectrace.commands.furnace",
+                "white furnace: directional albedo of a BSDF vs incident angle"),
+    "spd": ("spectrace.commands.spd",
+            "XYZ, xy, CCT, CRI and sRGB colour of an SPD file or dataset"),
+    "ies": ("spectrace.commands.ies",
+            "flux, peak, beam angle and polar plot of an IES or EULUMDAT file"),
     "help": ("spectrace.commands.help", "a plugin's reference page (help phong), or the list"),
-    "lux": ("spectrace.commands.lux", "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
-    "sweep": ("spectrace.commands.sweep", "render the Cartesian product of scene parameters on Dask"),
+    "lux": ("spectrace.commands.lux",
+            "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
+    "sweep": ("spectrace.commands.sweep",
+              "render the Cartesian product of scene parameters on Dask"),
 }
 
 EXIT_USAGE = 2
@@ -71,9 +78,9 @@ def _version() -> str:
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(only=_command_in(argv))
-    args = parser.parse_args(argv)
     try:
+        parser = build_parser(only=_command_in(argv))
+        args = parser.parse_args(argv)
         return int(args._module.run(args) or 0)
     except UserError as e:
         print(f"error: {e}", file=sys.stderr)
@@ -81,6 +88,13 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # The reader of the output went away (spectrace ... | head): end quietly, with
+        # stdout pointed at /dev/null so that Python's final flush does not complain.
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

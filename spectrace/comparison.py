@@ -62,7 +62,7 @@ def write_figure(path, comparison: Comparison, label_a: str, label_b: str) -> No
 
     stats = comparison.stats
     fig, axes = plt.subplots(1, 3, figsize=(12, 4.2), constrained_layout=True)
-    for ax, img, label in zip(axes, (comparison.a, comparison.b), (label_a, label_b)):
+    for ax, img, label in zip(axes, (comparison.a, comparison.b), (label_a, label_b), strict=False):
         ax.imshow(encode_srgb(np.clip(img, 0, 1)))
         ax.set_title(label)
         ax.axis("off")

@@ -65,7 +65,8 @@ class FurnaceResult:
                    "> 1 (gains energy)" if self.exceeds_one()[i] else ""]
             )
         widths = [max(len(r[j]) for r in rows) for j in range(len(head))]
-        return "\n".join("  ".join(c.rjust(w) for c, w in zip(r, widths)).rstrip() for r in rows)
+        return "\n".join("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)).rstrip()
+                         for r in rows)
 
 
 def load_bsdf(spec):

@@ -23,6 +23,7 @@ of the same size (each pixel the mean over its footprint) instead of its film.
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -88,6 +89,11 @@ class LuxMap:
 
 # -- parsing ---------------------------------------------------------------------------------
 
+#: The largest magnitude a number of the command line may have: the renderer computes in
+#: float32, so larger values would become infinite there.
+FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
 def _floats(text: str, count: int) -> list[float] | None:
     parts = text.split(",")
     if len(parts) != count:
@@ -106,10 +112,16 @@ def parse_plane(text: str) -> Plane:
     normal = _floats(parts[1], 3) if len(parts) == 2 else None
     if point is None or normal is None:
         raise UserError(f"--plane {text!r}: expected {PLANE_FORMAT}")
-    length = math.sqrt(sum(c * c for c in normal))
+    if max(abs(c) for c in point) > FLOAT32_MAX:
+        raise UserError(f"--plane {text!r}: the point's coordinates must be at most "
+                        f"{FLOAT32_MAX:.3g} in magnitude (the renderer computes in float32)")
+    # scaled by its largest component first: no overflow or underflow in the length
+    big = max(abs(c) for c in normal)
+    scaled = [c / big for c in normal] if big > 0.0 else normal
+    length = math.sqrt(sum(c * c for c in scaled))
     if not length > 0.0:
         raise UserError(f"--plane {text!r}: the normal must not be zero")
-    return tuple(point), tuple(c / length for c in normal)
+    return tuple(point), tuple(c / length for c in scaled)
 
 
 def parse_range(text: str, log: bool = False) -> tuple[float, float]:
@@ -123,6 +135,18 @@ def parse_range(text: str, log: bool = False) -> tuple[float, float]:
     if log and not low > 0.0:
         raise UserError(f"--range {text!r}: --log needs MIN > 0")
     return low, high
+
+
+#: Seeds are stored as 32-bit EXR header integers (and Mitsuba's ``seed`` property is one).
+SEED_RANGE = (-(2**31), 2**31 - 1)
+
+
+def check_seed(seed: int, option: str = "--seed") -> int:
+    """UserError unless ``seed`` fits the 32-bit range :data:`SEED_RANGE`."""
+    low, high = SEED_RANGE
+    if not low <= int(seed) <= high:
+        raise UserError(f"{option} {seed}: must be between {low} and {high}")
+    return int(seed)
 
 
 def plane_string(plane: Plane) -> str:
@@ -139,9 +163,14 @@ DISPLAY_EXPOSURE = "exposure"
 
 def true_units(root: ET.Element, params: dict[str, str]) -> dict[str, str]:
     """``params`` with the scene's display ``exposure`` set to 1 when the scene declares
-    that ``<default>`` and the user did not set it, so the lights are in their true units."""
+    that ``<default>``, uses it (``$exposure``) and the user did not set it, so the lights
+    are in their true units."""
     declared = any(d.get("name") == DISPLAY_EXPOSURE for d in root.iter("default"))
-    if declared and DISPLAY_EXPOSURE not in params:
+    # Mitsuba refuses a parameter the scene never uses as $exposure
+    reference = re.compile(rf"\${DISPLAY_EXPOSURE}(?!\w)")
+    used = any(reference.search(value) for element in root.iter()
+               for value in element.attrib.values())
+    if declared and used and DISPLAY_EXPOSURE not in params:
         return {**params, DISPLAY_EXPOSURE: "1"}
     return params
 
@@ -363,7 +392,7 @@ def plot_lux(path, luxmap: LuxMap, value_range=None, log: bool = False,
     low, high = display_range(luxmap, value_range, log)
     norm = colors.LogNorm(low, high, clip=True) if log else colors.Normalize(low, high, clip=True)
     cmap = matplotlib.colormaps[COLOUR_MAP].with_extremes(bad=NO_DATA_COLOUR)
-    lux = np.ma.masked_array(luxmap.lux, mask=~luxmap.valid)
+    lux = np.ma.masked_array(luxmap.lux.astype(np.float64), mask=~luxmap.valid)
     if log:
         lux = np.ma.masked_less_equal(lux, 0.0)
     h, w = luxmap.lux.shape

@@ -5,6 +5,10 @@ samples (each a call of ``mi.render`` with its own seed), averaged with weights 
 their sample counts. Memory therefore depends on ``spp_per_pass``, not on ``spp``.
 A SIGINT (Ctrl-C) during a pass lets the pass finish and then stops the loop, so the
 image of the completed passes can still be saved.
+
+The local loop sums the passes in Dr.Jit (float64) and never imports numpy: a render's
+pixels stay a Dr.Jit tensor (:attr:`RenderResult.pixels`) until someone asks for the numpy
+array (:attr:`RenderResult.image`), so the command line starts as fast as ``mitsuba``.
 """
 
 from __future__ import annotations
@@ -13,32 +17,59 @@ import signal
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
-
-import numpy as np
 
 from spectrace.errors import UserError
 
 DEFAULT_SPP_PER_PASS = 16
 _POLL_S = 0.02  # how often the distributed loop looks for finished passes
 _SEED_STRIDE = 0x9E3779B1  # golden-ratio stride: passes of nearby seeds never share seeds
+#: A render's seed is stored in its EXR header as a 32-bit integer.
+SEED_RANGE = (-(2**31), 2**31 - 1)
 
 
-@dataclass
 class RenderResult:
-    """An averaged image and how it was made."""
+    """An averaged image and how it was made.
 
-    image: np.ndarray  # (H, W, C) float32, the film's channels
-    spp: int  # samples per pixel actually rendered (less than asked if interrupted)
-    passes: int
-    seconds: float
-    interrupted: bool
-    nonfinite: int = 0  # pixel values that were NaN or infinite, set to 0 in ``image``
+    ``pixels`` is the (H, W, C) float32 image with the film's channels, as made: a Dr.Jit
+    tensor (``mi.TensorXf``) from the local loop, a numpy array from the distributed one.
+    ``image`` is the same pixels as a numpy float32 array, converted on first access.
+    """
+
+    __slots__ = ("pixels", "spp", "passes", "seconds", "interrupted", "nonfinite", "_image")
+
+    def __init__(self, pixels, spp: int, passes: int, seconds: float, interrupted: bool,
+                 nonfinite: int = 0):
+        self.pixels = pixels
+        self.spp = spp  # samples per pixel actually rendered (less than asked if interrupted)
+        self.passes = passes
+        self.seconds = seconds
+        self.interrupted = interrupted
+        self.nonfinite = nonfinite  # pixel values that were NaN or infinite, set to 0
+        self._image = None
+
+    @property
+    def image(self):
+        """The pixels as an (H, W, C) float32 numpy array (imports numpy on first use)."""
+        if self._image is None:
+            import numpy as np
+
+            self._image = np.asarray(self.pixels, dtype=np.float32)
+        return self._image
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """(H, W, C) of the image."""
+        return tuple(self.pixels.shape)
 
     @property
     def samples_per_second(self) -> float:
-        h, w = self.image.shape[:2]
+        h, w = self.shape[:2]
         return h * w * self.spp / self.seconds if self.seconds > 0 else float("nan")
+
+    def __repr__(self) -> str:
+        return (f"RenderResult(shape={self.shape}, spp={self.spp}, passes={self.passes}, "
+                f"seconds={self.seconds:.3f}, interrupted={self.interrupted}, "
+                f"nonfinite={self.nonfinite})")
 
 
 def pass_seed(seed: int, index: int) -> int:
@@ -52,6 +83,13 @@ def check_sample_counts(spp: int | None, spp_per_pass: int) -> None:
         raise UserError(f"--spp must be a positive integer (got {spp})")
     if spp_per_pass <= 0:
         raise UserError(f"--spp-per-pass must be a positive integer (got {spp_per_pass})")
+
+
+def check_seed(seed: int) -> None:
+    """UserError unless ``seed`` fits the EXR header's 32-bit integer (:data:`SEED_RANGE`)."""
+    if not SEED_RANGE[0] <= seed <= SEED_RANGE[1]:
+        raise UserError(f"--seed must be between {SEED_RANGE[0]} and {SEED_RANGE[1]} "
+                        f"(got {seed}): it is stored in the EXR header as a 32-bit integer")
 
 
 def scene_spp(scene, sensor: int = 0) -> int:
@@ -99,13 +137,16 @@ def render_passes(
     """Render ``scene`` with ``spp`` samples per pixel in passes; see the module docstring.
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
-    Returns the sample-weighted mean of the passes as float32 (H, W, C); NaN or infinite
-    values (a plugin's bug) are set to 0 and counted in ``RenderResult.nonfinite``.
+    Returns the sample-weighted mean of the passes (summed in float64) as a float32
+    (H, W, C) tensor; NaN or infinite values (a plugin's bug) are set to 0 and counted in
+    ``RenderResult.nonfinite``.
     """
+    import drjit as dr
     import mitsuba as mi
 
     sizes = pass_sizes(spp, spp_per_pass)
-    accum = None
+    accum = None  # flat float64 sum of the passes weighted by their spp
+    shape = None
     done = 0
     start = time.perf_counter()
     with _StopOnSigint() as stop:
@@ -113,20 +154,33 @@ def render_passes(
             img = mi.render(
                 scene, spp=n, seed=pass_seed(seed, index), sensor=sensor, integrator=integrator
             )
-            img = np.asarray(img, dtype=np.float64)
-            accum = img * n if accum is None else accum + img * n
+            if accum is None:
+                shape = tuple(img.shape)
+                accum = dr.opaque(mi.Float64, 0, dr.width(img.array))
+            # an opaque weight: every pass (the remainder too) runs the same kernel
+            accum = accum + mi.Float64(img.array) * dr.opaque(mi.Float64, n)
+            dr.eval(accum)
             done += n
             if on_pass is not None:
                 on_pass(done, spp)
             if stop.requested:
                 break
         interrupted = stop.requested and done < spp
+    mean = mi.Float(accum / dr.opaque(mi.Float64, done))
+    bad = ~dr.isfinite(mean)
+    mean = dr.select(bad, 0.0, mean)
+    dr.eval(mean, bad)  # one kernel; ``seconds`` includes it
+    nonfinite = int(dr.count(bad)[0])
     seconds = time.perf_counter() - start
-    return _result(accum, done, index + 1, seconds, interrupted)
+    return RenderResult(mi.TensorXf(mean, shape), done, index + 1, seconds, interrupted,
+                        nonfinite)
 
 
-def _result(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:
-    """The mean image from the sample-weighted sum ``accum`` of ``done`` samples."""
+def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:
+    """The numpy mean image from the sample-weighted float64 sum ``accum`` of ``done``
+    samples (the distributed loop)."""
+    import numpy as np
+
     image = (accum / done).astype(np.float32)
     bad = ~np.isfinite(image)
     nonfinite = int(bad.sum())
@@ -153,7 +207,9 @@ def render_passes_distributed(
     At most ``window`` passes (default: twice the workers' threads) are outstanding at a
     time. A SIGINT (Ctrl-C) cancels the outstanding passes and returns the mean of the
     passes done (``interrupted`` set). A pass whose worker dies is run again elsewhere.
+    The result's ``pixels`` are a numpy array (the workers send numpy arrays).
     """
+    import numpy as np
     from distributed import as_completed
 
     from spectrace.cluster import RETRIES, render_pass
@@ -196,4 +252,4 @@ def render_passes_distributed(
     for index in sorted(images):
         img = np.asarray(images[index], dtype=np.float64) * sizes[index]
         accum = img if accum is None else accum + img
-    return _result(accum, done, len(images), seconds, interrupted)
+    return _mean_of(accum, done, len(images), seconds, interrupted)

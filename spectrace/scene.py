@@ -12,6 +12,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from spectrace.errors import UserError
+from spectrace.signals import defer_sigint
 
 _CPP_PREFIX = re.compile(r"\[[\w./-]+\.(?:cpp|h|py):\d+\]\s*")
 # A Python plugin's exception arrives with its traceback: keep only the final message.
@@ -40,6 +41,8 @@ def parse_defines(defines: list[str] | None) -> dict[str, str]:
 def read_scene_xml(path: str | Path) -> ET.Element:
     """Parse the scene file; a missing or malformed file is a UserError naming it."""
     path = Path(path)
+    if path.is_dir():
+        raise UserError(f"scene {path}: is a folder, not a scene file")
     if not path.is_file():
         raise UserError(f"scene {path}: no such file")
     try:
@@ -69,11 +72,16 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     folder = str(path.resolve().parent)
     try:
         resolver.prepend(folder)
-        if root is None:
-            scene = mi.load_file(str(path), **params)
-        else:
-            scene = mi.load_string(ET.tostring(tree, encoding="unicode"), **params)
+        with defer_sigint() as sigint:
+            if root is None:
+                scene = mi.load_file(str(path), **params)
+            else:
+                scene = mi.load_string(ET.tostring(tree, encoding="unicode"), **params)
     except (RuntimeError, ValueError, TypeError) as e:
+        if sigint.seen or "KeyboardInterrupt" in str(e):
+            # Ctrl-C inside a Python plugin's constructor comes back as a plugin error
+            # (or leaves a half-imported module behind): an interrupt, not a mistake.
+            raise KeyboardInterrupt from None
         if "unused parameters" in str(e):
             raise UserError(_unused_parameters(path, tree, str(e))) from None
         msg = one_line(e) + _variant_hint(str(e))

@@ -42,6 +42,11 @@ LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
 #: Size in pixels of an image's cell in the contact sheet (larger images are shrunk).
 SHEET_CELL = 160
 _PAD = 4
+#: Longest file name stem (characters, all ASCII) of an image; longer ones are shortened
+#: with a hash of the combination (".spectral.exr" and temporary prefixes must still fit).
+MAX_STEM = 200
+#: Seeds are stored as 32-bit EXR header integers (and Mitsuba's ``seed`` property is one).
+SEED_RANGE = (-(2**31), 2**31 - 1)
 _UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
 
 
@@ -49,7 +54,8 @@ def parse_sweep_defines(defines: Iterable[str]) -> dict[str, list[str]]:
     """``["name=v1,v2", ...]`` (``-D`` options) -> ``{name: [v1, v2]}``, in order.
 
     UserError for an item without ``=``, an empty name or no values (``-D name=``).
-    A name given twice collects the values of both.
+    A name given twice collects the values of both. ``\\,`` is a comma inside a value
+    (``-D color=0.2\\,0.5\\,0.9,1\\,1\\,1``: two RGB values).
     """
     params: dict[str, list[str]] = {}
     for item in defines or []:
@@ -57,11 +63,16 @@ def parse_sweep_defines(defines: Iterable[str]) -> dict[str, list[str]]:
         name = name.strip()
         if not sep or not name:
             raise UserError(f"-D {item!r}: expected name=v1,v2,...")
-        values = [v.strip() for v in text.split(",") if v.strip()]
+        values = [v.strip() for v in split_values(text) if v.strip()]
         if not values:
             raise UserError(f"-D {name}=: no values (give name=v1,v2,...)")
         params.setdefault(name, []).extend(v for v in values if v not in params.get(name, []))
     return params
+
+
+def split_values(text: str) -> list[str]:
+    """``text`` split at its commas, except those escaped as ``\\,`` (kept as commas)."""
+    return [v.replace("\0", ",") for v in text.replace("\\,", "\0").split(",")]
 
 
 def parse_list(text: str | None, option: str, kind=str) -> list | None:
@@ -93,7 +104,14 @@ class Combination:
     def stem(self) -> str:
         """File name (no suffix): ``name-value_..._variant_seedS``, safe characters only."""
         parts = [f"{k}-{_safe(v)}" for k, v in self.values]
-        return "_".join([*parts, self.variant, f"seed{self.seed}"])
+        stem = "_".join([*parts, self.variant, f"seed{self.seed}"])
+        if len(stem) > MAX_STEM:  # file names have at most 255 bytes; keep it unique
+            import hashlib
+
+            digest = hashlib.sha1(self.header().encode()).hexdigest()[:10]
+            tail = f"~{digest}_{self.variant}_seed{self.seed}"
+            stem = stem[: MAX_STEM - len(tail)].rstrip("_") + tail
+        return stem
 
     def label(self) -> str:
         return " ".join([*(f"{k}={v}" for k, v in self.values), self.variant,
@@ -155,6 +173,10 @@ class Grid:
         variants = _as_list(variants, spectrace.DEFAULT_VARIANT)
         _check_variants(variants)
         seeds = [int(s) for s in _as_list(seeds, 0)]
+        for seed in seeds:
+            if not SEED_RANGE[0] <= seed <= SEED_RANGE[1]:
+                raise UserError(f"--seeds {seed}: a seed must be between {SEED_RANGE[0]} "
+                                f"and {SEED_RANGE[1]}")
         return cls(scene, grid_params, list(dict.fromkeys(variants)),
                    list(dict.fromkeys(seeds)), spp, spp_per_pass)
 
@@ -267,6 +289,28 @@ def _finished(outdir: Path, grid: Grid, outcome: Outcome) -> bool:
     return True
 
 
+def check_outdir(outdir, create: bool = True) -> Path:
+    """UserError when the output folder, or a folder above it, is a file, or when nothing
+    can be written there; ``create``: make the folder (else only check, making nothing)."""
+    import os
+
+    from spectrace.images import check_writable
+
+    outdir = Path(outdir)
+    for folder in (outdir, *outdir.parents):
+        if folder.exists() and not folder.is_dir():
+            what = "is" if folder == outdir else f"is inside {folder}, which is"
+            raise UserError(f"output folder {outdir} {what} a file, not a folder")
+        if folder.is_dir():  # the nearest folder that exists
+            if not os.access(folder, os.W_OK | os.X_OK):
+                raise UserError(f"cannot write output folder {outdir}: {folder} is not "
+                                "writable")
+            break
+    if create:
+        check_writable(outdir / RESULTS)
+    return outdir
+
+
 def plan(grid: Grid, outdir) -> list[Outcome]:
     """The outcomes of ``grid`` in grid order, those an earlier run finished ``skipped``."""
     outdir = Path(outdir)
@@ -290,10 +334,8 @@ def run(grid: Grid, client, outdir, *, on_image: Callable[[Outcome], None] | Non
     image in its outcome (memory stays small for large sweeps).
     """
     from spectrace.cluster import RETRIES, SceneSpec, render_image
-    from spectrace.images import check_writable
 
-    outdir = Path(outdir)
-    check_writable(outdir / RESULTS)
+    outdir = check_outdir(outdir)
     outcomes = plan(grid, outdir) if outcomes is None else outcomes
     todo = [o for o in outcomes if o.status != "skipped"]
     if on_image:

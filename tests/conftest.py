@@ -39,6 +39,30 @@ def variant_spectral():
     return "llvm_ad_spectral"
 
 
+@pytest.fixture(scope="session")
+def local_cluster():
+    """One Dask LocalCluster of two worker processes for the whole session (cluster tests
+    share it; a worker killed by a test is restarted by its nanny), closed at the end."""
+    from spectrace import cluster
+
+    local = cluster.start_local(2)
+    yield local
+    local.close()
+
+
+@pytest.fixture(scope="module")
+def client(local_cluster):
+    """A Dask client of the session's cluster, workers set up for llvm_ad_rgb."""
+    from distributed import Client
+
+    from spectrace import cluster
+
+    c = Client(local_cluster, set_as_default=False)
+    cluster.setup_workers(c, variant="llvm_ad_rgb")
+    yield c
+    c.close()
+
+
 @pytest.fixture
 def rng():
     """A seeded numpy generator: every random test is reproducible."""

@@ -11,7 +11,6 @@ import signal
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from spectrace import cluster
 from spectrace.cluster import SceneSpec
@@ -25,19 +24,6 @@ VARIANT = "llvm_ad_rgb"
 #: order of float additions.
 SAME_SEED_ATOL = 1e-5
 SAME_SEED_RTOL = 1e-5
-
-
-@pytest.fixture(scope="module")
-def client():
-    """Two worker processes, one Dask thread each, set up for llvm_ad_rgb."""
-    from distributed import Client
-
-    local = cluster.start_local(2)
-    c = Client(local, set_as_default=False)
-    cluster.setup_workers(c, variant=VARIANT)
-    yield c
-    c.close()
-    local.close()
 
 
 def local_render(spp, seed, spp_per_pass):

@@ -79,6 +79,20 @@ def test_malformed_plane_is_a_user_error(text):
     assert "\n" not in str(info.value)
 
 
+def test_parse_plane_extreme_numbers():
+    """A normal of huge or tiny components is normalised without overflow or underflow
+    (1e300,1e300,0 became the zero normal, 'parallel to the view'); a point beyond float32,
+    which the renderer would make infinite, is a one-line UserError naming --plane."""
+    from spectrace.lux import parse_plane
+
+    _, normal = parse_plane("0,0,0 1e300,1e300,0")
+    np.testing.assert_allclose(normal, (np.sqrt(0.5), np.sqrt(0.5), 0.0), rtol=1e-12)
+    _, normal = parse_plane("0,0,0 0,1e-320,0")
+    assert normal == (0.0, 1.0, 0.0)
+    with pytest.raises(UserError, match="--plane .*float32"):
+        parse_plane("1e308,0,0 0,1,0")
+
+
 def test_parse_range():
     """MIN,MAX with 0 <= MIN < MAX; --log needs MIN > 0."""
     from spectrace.lux import parse_range
@@ -130,9 +144,9 @@ def test_ies_downlight_flux_reaches_the_floor(variant_rgb, tmp_path):
     within 60 degrees of the nadir) written as an IES file, 1 m above the floor: the lux
     integrated over the floor is the file's luminous flux."""
     import mitsuba as mi
+    from spectrace.photometry import generate
 
     from spectrace.lux import render_lux
-    from spectrace.photometry import generate
 
     I0, n = 500.0, 10.0
     path = generate.write_ies_function(tmp_path / "down.ies", generate.cos_power(I0, n),
@@ -242,8 +256,35 @@ def test_display_exposure_is_set_to_one_for_true_lux():
     from spectrace.lux import true_units
 
     with_exposure = ET.fromstring('<scene version="3.0.0"><default name="exposure" '
-                                  'value="600"/></scene>')
+                                  'value="600"/><emitter type="point"><float name="scale" '
+                                  'value="$exposure"/></emitter></scene>')
     without = ET.fromstring('<scene version="3.0.0"><default name="res" value="8"/></scene>')
     assert true_units(with_exposure, {}) == {"exposure": "1"}
     assert true_units(with_exposure, {"exposure": "2"}) == {"exposure": "2"}
     assert true_units(without, {"res": "4"}) == {"res": "4"}
+
+
+def test_display_exposure_declared_but_unused_is_left_alone():
+    """A scene that declares `exposure` but never uses $exposure: setting it would make
+    Mitsuba refuse an unused parameter that the user never gave, so it is not set; a use
+    inside a longer value (value="2*$exposure" style) counts, $exposure_x does not."""
+    from spectrace.lux import true_units
+
+    unused = ET.fromstring('<scene version="3.0.0"><default name="exposure" value="600"/>'
+                           '<emitter type="point"><float name="scale" value="$exposure_x"/>'
+                           '</emitter></scene>')
+    used = ET.fromstring('<scene version="3.0.0"><default name="exposure" value="600"/>'
+                         '<emitter type="point"><rgb name="intensity" value="$exposure, 1, 1"/>'
+                         '</emitter></scene>')
+    assert true_units(unused, {}) == {}
+    assert true_units(used, {}) == {"exposure": "1"}
+
+
+def test_seed_range():
+    """Seeds are stored as 32-bit EXR integers: outside that range a UserError (the header
+    wrapped 99999999999 to 1215752191)."""
+    from spectrace.lux import check_seed
+
+    assert check_seed(-(2**31)) == -(2**31) and check_seed(2**31 - 1) == 2**31 - 1
+    with pytest.raises(UserError, match="--seed 99999999999"):
+        check_seed(99999999999)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -90,3 +92,56 @@ def test_nan_never_reaches_the_image(variant_rgb):
     result = render_passes(scene, spp=2)
     assert np.isfinite(result.image).all()
     assert result.nonfinite > 0
+
+
+def test_result_stays_a_tensor_until_the_image_is_asked_for(variant_rgb):
+    """The local loop's pixels are a Dr.Jit tensor (no numpy needed to render and write);
+    ``image`` is the same values as a float32 numpy array, converted once."""
+    result = render_passes(small_scene(), spp=2, seed=1)
+    assert type(result.pixels).__module__.startswith("drjit")
+    assert result.shape == (12, 16, 3)
+    image = result.image
+    assert isinstance(image, np.ndarray) and image.dtype == np.float32
+    np.testing.assert_array_equal(image, np.asarray(result.pixels))
+    assert result.image is image
+
+
+# ------------------------------------------- the writers given a tensor (mi.Bitmap)
+
+#: Linear values at the edges of the PNG's encoding: below 0, the linear segment and its
+#: end (0.0031308), 1, above 1, infinities and NaN.
+EDGE_VALUES = [-0.5, 0.0, 1e-4, 0.0031308, 0.0031309, 0.2, 0.5, 1.0, 3.0,
+               np.inf, -np.inf, np.nan]
+
+
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_tensor_writers_write_what_the_numpy_writers_write(variant_rgb, tmp_path, rng,
+                                                           channels):
+    """An image given as ``mi.TensorXf`` (written by Mitsuba's Bitmap) and as a numpy array
+    (written by OpenEXR and Pillow): the same float32 EXR pixels and header attributes, the
+    same 8-bit sRGB codes in the PNG (edge values included), the umask's file mode and no
+    temporary file left; a one- or two-channel (mono) film as grey."""
+    import mitsuba as mi
+    from PIL import Image
+
+    from spectrace.images import read_exr, write_exr, write_png
+
+    pixels = rng.random((6, 50, channels), dtype=np.float32) ** 3
+    pixels.reshape(-1)[:len(EDGE_VALUES)] = EDGE_VALUES
+    header = {"spp": 12, "seed": 3, "variant": "llvm_ad_rgb", "scene": "/a/b.xml"}
+    for name, image in (("tensor", mi.TensorXf(pixels)), ("numpy", pixels)):
+        write_exr(tmp_path / f"{name}.exr", image, header)
+        write_png(tmp_path / f"{name}.png", image)
+    rgb, got = read_exr(tmp_path / "tensor.exr")
+    expected, _ = read_exr(tmp_path / "numpy.exr")
+    assert rgb.shape == (6, 50, 3)
+    np.testing.assert_array_equal(rgb, expected)
+    assert {key: got[key] for key in header} == header
+    with Image.open(tmp_path / "tensor.png") as a, Image.open(tmp_path / "numpy.png") as b:
+        assert a.mode == "RGB"
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+    umask = os.umask(0)
+    os.umask(umask)
+    for path in tmp_path.iterdir():
+        assert not path.name.startswith("."), path  # no temporary file left
+        assert (path.stat().st_mode & 0o777) == 0o666 & ~umask, path

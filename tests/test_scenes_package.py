@@ -8,8 +8,9 @@ package data), so that they work in a wheel install as in a checkout. A scene as
 from __future__ import annotations
 
 import fnmatch
-import tomllib
 from pathlib import Path
+
+import tomllib
 
 from spectrace import scenes
 

@@ -26,21 +26,6 @@ SAME_SEED_ATOL = 1e-5
 SAME_SEED_RTOL = 1e-5
 
 
-@pytest.fixture(scope="module")
-def client():
-    """Two worker processes, one Dask thread each, set up for llvm_ad_rgb."""
-    from distributed import Client
-
-    from spectrace import cluster
-
-    local = cluster.start_local(2)
-    c = Client(local, set_as_default=False)
-    cluster.setup_workers(c, variant=VARIANT)
-    yield c
-    c.close()
-    local.close()
-
-
 def test_product_order_and_file_names():
     """-D a=1,2 -D b=x,y,z with two seeds: 2 * 3 * 2 images, first parameter slowest,
     every file name distinct (also for values that differ only in unsafe characters)."""

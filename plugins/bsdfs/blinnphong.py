@@ -75,7 +75,6 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins.bsdfs.lobes import LobeBSDF, power_cosine, sample_power_cosine
 
 

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 
 #: Parameters the two BSDFs accept; anything else is a load error (a typo, usually).

@@ -46,7 +46,7 @@ with Omega = integral of p over the sphere (4 pi for ``pointlight``), so that a 
 Phi gives I = Phi / Omega and the light emits exactly Phi into the sphere (with
 ``inverse_square``). A luminous quantity becomes a radiant one through the ``luminous``
 page: I = I_v * s / (K_m integral V s dlambda), K_m = 683 lm/W (spectral variants; RGB
-and mono variants use the luminance Y of the colour s instead of the integral).
+and mono variants use Y(s) integral V dlambda, Y the luminance of the colour s).
 
 Sources
 -------
@@ -72,7 +72,6 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 from spectrace.plugins.emitters import falloff, luminous
 

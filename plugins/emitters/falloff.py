@@ -68,7 +68,6 @@ import math
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 
 DEFAULT_LAW = "inverse_square"

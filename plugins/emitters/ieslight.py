@@ -98,9 +98,9 @@ Emission. The file's intensity I_v(gamma, C) (cd) becomes the radiant intensity:
 with K_m = 683 lm/W, V the CIE photopic efficiency, f = luminous_flux / Phi_file when
 ``luminous_flux`` is given (Phi_file: the file's flux, integrated over the sphere by
 ``spectrace.photometry``) and f = 1 otherwise, times the distance law (1/r^2 by default). In
-RGB and mono variants the integral is the luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of
-the colour s (or its value), so that K_m * Y(I_e) = scale * f * I_v: the same lux in every
-variant (``spectrace help luminous``).
+RGB and mono variants the integral is Y(s) integral V dlambda, Y = 0.2126 R + 0.7152 G +
+0.0722 B the luminance of the colour s (or its value): the same lux and the same image in
+every variant (``spectrace help luminous``).
 
 Light tracing. ``sample_ray`` picks a cell [C_i, C_i+1] x [gamma_j, gamma_j+1] of the
 profile's grid (with Walker's alias table: constant time) with probability proportional to
@@ -143,13 +143,15 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import drjit as dr
 import mitsuba as mi
-import numpy as np
-
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff, luminous
+
+if TYPE_CHECKING:
+    import numpy as np
 
 PLUGIN = "ieslight"
 #: The other lights' emission parameters, refused here, and what to use instead.
@@ -167,12 +169,22 @@ REGULAR_RTOL = 1e-6
 def read_profile(filename: str):
     """The ``Photometry`` of ``filename``, resolved through Mitsuba's file resolver; a missing
     or bad file raises ``ValueError`` with one line naming the file (and the field)."""
-    from spectrace.errors import UserError
     from spectrace.photometry import read_photometry
 
-    path = Path(str(mi.file_resolver().resolve(filename)))
+    from spectrace.errors import UserError
+
+    resolver = mi.file_resolver()
+    path = Path(str(resolver.resolve(filename)))
     if not path.is_file():
-        raise ValueError(f"{PLUGIN}: parameter 'filename': no such file {filename!r}")
+        what = (f"{filename!r} is a folder, not a file" if path.is_dir()
+                else f"{filename!r} is not a regular file" if path.exists()
+                else f"no such file {filename!r}")
+        where = ""
+        if not Path(filename).is_absolute():  # say where a relative name was looked up
+            folders = [str(resolver[i]) for i in range(len(resolver))]
+            folders = [f for f in folders if Path(f).name != "mitsuba"] or folders
+            where = f" (looked in {', '.join(folders)})"
+        raise ValueError(f"{PLUGIN}: parameter 'filename': {what}{where}")
     try:
         return path, read_photometry(path)
     except UserError as error:
@@ -189,6 +201,8 @@ def one_line(text: str) -> str:
 def whole_sphere_grid(photometry):
     """(gamma_deg (n_g,), c_deg (n_c,), candela (n_c, n_g)) of a Type C profile on the whole
     sphere (``Photometry.type_c_grid``), float64, each axis with at least two angles."""
+    import numpy as np
+
     gamma, c, candela = (np.asarray(a, dtype=np.float64) for a in photometry.type_c_grid())
     if gamma.size == 1:
         gamma, candela = np.array([0.0, 180.0]), np.repeat(candela.reshape(-1, 1), 2, axis=1)
@@ -214,6 +228,8 @@ class TypeC:
     @staticmethod
     def measure(gamma_deg: np.ndarray) -> np.ndarray:
         """1 - cos(gamma) = 2 sin^2(gamma / 2) (exact near the axis)."""
+        import numpy as np
+
         return 2.0 * np.sin(np.radians(gamma_deg) / 2.0) ** 2
 
     @staticmethod
@@ -246,6 +262,8 @@ class TypeB:
 
     @staticmethod
     def measure(h_deg: np.ndarray) -> np.ndarray:
+        import numpy as np
+
         return np.sin(np.radians(h_deg))
 
     @staticmethod
@@ -265,6 +283,8 @@ def profile_grid(photometry):
     """(angle system, outer angles (n_o,), inner angles (n_i,), candela (n_o, n_i)) in
     degrees and cd, float64: Type C on the whole sphere (C, gamma); Type B in the file's own
     (V, H), mirrored to negative H for a laterally symmetric file (H from 0)."""
+    import numpy as np
+
     if photometry.photometric_type != "B":
         gamma, c, candela = whole_sphere_grid(photometry)
         return TypeC, c, gamma, candela
@@ -280,6 +300,8 @@ def profile_grid(photometry):
 def cell_weights(outer_deg, inner_deg, candela, system):
     """Solid angle Omega_ij and sampling weight w_ij = Omega_ij * mean of the four corners of
     each cell [outer_i, outer_i+1] x [inner_j, inner_j+1], shape (n_o - 1, n_i - 1)."""
+    import numpy as np
+
     m = system.measure(inner_deg)
     omega = np.radians(np.diff(outer_deg))[:, None] * np.diff(m)[None, :]
     corners = candela[:-1, :-1] + candela[1:, :-1] + candela[:-1, 1:] + candela[1:, 1:]
@@ -291,6 +313,8 @@ def alias_table(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray
     probability, alias) so that bucket i = floor(u n) keeps i with the probability
     ``probability[i]`` and otherwise gives ``alias[i]``; every index then comes out with
     probability pmf (weights / their sum)."""
+    import numpy as np
+
     pmf = np.asarray(weights, dtype=np.float64).ravel()
     pmf = pmf / pmf.sum()
     n = pmf.size
@@ -312,6 +336,8 @@ class Axis:
     binary search, or by division when the angles are evenly spaced."""
 
     def __init__(self, angles: np.ndarray):
+        import numpy as np
+
         self.n = int(angles.size)
         self.angles = mi.Float(angles.astype(np.float32))
         steps = np.diff(angles)
@@ -383,6 +409,8 @@ class IESLight(delta.DeltaLight):
 
     def _init_profile(self):
         """The profile's table, its axes and the distribution of ``sample_ray`` over cells."""
+        import numpy as np
+
         system, outer, inner, candela = profile_grid(self.photometry)
         if outer.size < 2 or inner.size < 2:
             raise ValueError(f"{PLUGIN}: {self.path}: a Type B profile needs two angles or "

@@ -41,14 +41,19 @@ Spectral variants: I_e = I_v s / (K_m integral V s dlambda), the integral a sum 
 the spectrum is K = K_m integral V s / integral s (lm/W).
 
 RGB and monochrome variants have no wavelengths: there the spectrum is a colour c (linear
-Rec. 709 RGB, or one value) and the photometric convention is::
+Rec. 709 RGB, or one value). A colour stands for the spectra that Mitsuba's film maps to
+it: a film's Y is the mean of ybar-weighted radiance, Y = integral ybar s / integral ybar,
+so the colour c stands for spectra with integral V s dlambda = Y(c) integral V dlambda
+(white 1 for the flat spectrum 1), and the photometric convention is::
 
-    I_e = I_v c / (K_m Y(c)),       Y(c) = 0.2126 R + 0.7152 G + 0.0722 B  (or c in mono)
+    I_e = I_v c / (K_m Y(c) integral V dlambda),
+    Y(c) = 0.2126 R + 0.7152 G + 0.0722 B  (or c in mono),   integral V dlambda = 106.857 nm
 
-so that K_m * Y(I_e) = I_v. Reading lux back with the same convention (K_m times the Y of
-the irradiance, as the ``illuminance`` integrator does; K_m * integral V E dlambda in
-spectral variants) gives the same photometric scale in every variant: 100 cd at 1 m give
-100 lux.
+Reading lux back with the same convention (K_m integral V dlambda times the Y of the
+irradiance in RGB and mono variants, as the ``illuminance`` integrator does; K_m integral
+V E dlambda in spectral variants) gives the same photometric scale in every variant (100
+cd at 1 m give 100 lux), and one scene renders the same image in RGB and spectral
+variants, whether its lights are given in luminous or radiant units.
 
 The factor 1 / (K_m integral V s) is computed with Dr.Jit from the spectrum's parameters,
 so gradients with respect to ``spectrum`` keep the luminous quantity fixed.
@@ -80,10 +85,13 @@ An 800 lm bulb of a warm 2700 K spectrum::
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import drjit as dr
 import mitsuba as mi
-import numpy as np
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: K_m, the maximum luminous efficacy of photopic vision (lm/W), CIE 018:2019.
 KM = 683.0
@@ -99,6 +107,7 @@ PHOTOPIC = "CIE 1924 Photopic Standard Observer"
 def photopic_efficiency() -> tuple[np.ndarray, np.ndarray]:
     """(wavelengths in nm, V) of the CIE 1924 photopic observer on the 1 nm grid, peak 1."""
     import colour
+    import numpy as np
 
     wavelengths = np.arange(GRID_NM[0], GRID_NM[1] + 1, dtype=np.float64)
     sd = colour.colorimetry.SDS_LEFS_PHOTOPIC[PHOTOPIC]
@@ -131,28 +140,56 @@ def grid_interaction():
 def evaluate_on_grid(texture) -> np.ndarray:
     """A spatially uniform spectrum texture on the 1 nm grid (spectral variants: shape (N,)),
     or its channels (RGB: (3,), mono: (1,))."""
+    import numpy as np
+
     value = mi.unpolarized_spectrum(texture.eval(grid_interaction()))
     if mi.is_spectral:
         return np.asarray(value[0], dtype=np.float64)
     return np.array([float(dr.slice(value[i])) for i in range(len(value))], dtype=np.float64)
 
 
+@lru_cache(maxsize=1)
+def v_integral() -> float:
+    """integral V dlambda (nm) over the 1 nm grid: 106.857 nm, the photometric integral that
+    a colour of luminance 1 stands for in RGB and mono variants (see the module page)."""
+    import numpy as np
+
+    return float(np.sum(photopic_efficiency()[1]))
+
+
+def luminance(value):
+    """The luminance Y of a colour (Dr.Jit): Rec. 709 weights in RGB variants, the value in
+    mono variants."""
+    if mi.is_rgb:
+        r, g, b = LUMINANCE_WEIGHTS
+        return r * value[0] + g * value[1] + b * value[2]
+    return value[0]
+
+
 def photometric_integral_dr(texture) -> mi.Float:
     """integral V s dlambda (nm) as a Dr.Jit Float of width 1, differentiable with respect
-    to the texture's parameters: the 1 nm sum in spectral variants, Y(c) in RGB variants,
-    the value in monochrome ones."""
+    to the texture's parameters: the 1 nm sum in spectral variants, Y(c) integral V dlambda
+    in RGB and mono variants (the convention of the module page)."""
     value = mi.unpolarized_spectrum(texture.eval(grid_interaction()))
     if mi.is_spectral:
         _, V = photopic_efficiency()
         return dr.sum(value[0] * mi.Float(V))  # 1 nm steps, V ~ 0 at both ends
-    if mi.is_rgb:
-        return mi.Float(dr.sum(value * mi.Color3f(*LUMINANCE_WEIGHTS)))
-    return mi.Float(value[0])
+    return mi.Float(luminance(value) * v_integral())
+
+
+def illuminance_lux(E, weight=None):
+    """K_m integral V E dlambda (lux) of an irradiance E (W/m^2 per nm, Dr.Jit): in spectral
+    variants the mean over the sampled wavelengths of E * ``weight`` (V / pdf); in RGB and
+    mono variants K_m Y(E) integral V dlambda (the convention of the module page)."""
+    E = mi.unpolarized_spectrum(E)
+    if mi.is_spectral:
+        return KM * dr.mean(E * weight, axis=0)
+    return (KM * v_integral()) * luminance(E)
 
 
 def photometric_integral(texture) -> float:
-    """integral V s dlambda (nm) of a spectrum texture in spectral variants; Y(c) of its
-    colour in RGB variants; its value in monochrome variants."""
+    """integral V s dlambda (nm) of a spectrum texture in spectral variants; Y(c) integral
+    V dlambda of its colour in RGB and mono variants."""
     return float(dr.slice(dr.detach(photometric_integral_dr(texture))))
 
 
@@ -186,6 +223,8 @@ def watts_per_lumen_dr(texture) -> mi.Float:
 
 def luminous_efficacy(texture) -> float:
     """K = K_m integral V s / integral s (lm/W) of a spectrum (spectral variants only)."""
+    import numpy as np
+
     if not mi.is_spectral:
         raise ValueError("the luminous efficacy of a spectrum needs a spectral variant")
     values = evaluate_on_grid(texture)

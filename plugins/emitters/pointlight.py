@@ -59,9 +59,9 @@ Formula
     I = I_v s / (683 integral V s dlambda)         (candela; lumens: I_v = Phi_v / (4 pi))
 
 A light of power Phi spreads it over the sphere of area 4 pi r^2: E = Phi / (4 pi r^2)
-facing the light. In RGB and mono variants the luminous conversion uses the luminance Y
-of the colour s instead of the integral (see ``spectrace help luminous``), so a light in
-cd gives the same lux in every variant.
+facing the light. In RGB and mono variants the luminous conversion uses Y(s) integral V
+dlambda, Y the luminance of the colour s (see ``spectrace help luminous``), so a light in
+cd gives the same lux and the same image in every variant.
 
 Sources
 -------
@@ -91,7 +91,6 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff
 

@@ -115,7 +115,6 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff, luminous
 

@@ -43,8 +43,8 @@ Formula
 ::
 
     E_v = K_m integral V(lambda) E(lambda) dlambda           (spectral variants)
-    E_v = K_m Y(E),  Y = 0.2126 R + 0.7152 G + 0.0722 B      (RGB variants)
-    E_v = K_m E                                              (monochrome variants)
+    E_v = K_m Y(E) integral V dlambda                        (RGB and monochrome variants)
+    Y = 0.2126 R + 0.7152 G + 0.0722 B (RGB), E (mono);  integral V dlambda = 106.857 nm
     E(lambda) = integral over the hemisphere of n of L_i(omega, lambda) cos(theta) domega
 
 with K_m = 683 lm/W and V the CIE photopic efficiency, the same convention as the
@@ -96,7 +96,6 @@ import math
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 from spectrace.plugins.emitters import luminous
 
@@ -165,13 +164,7 @@ class Illuminance(mi.SamplingIntegrator):
     @staticmethod
     def _lux(E, weight):
         """K_m times the photometric integral of the irradiance spectrum E."""
-        E = mi.unpolarized_spectrum(E)
-        if mi.is_spectral:
-            return luminous.KM * dr.mean(E * weight, axis=0)
-        if mi.is_rgb:
-            r, g, b = luminous.LUMINANCE_WEIGHTS
-            return luminous.KM * (r * E[0] + g * E[1] + b * E[2])
-        return luminous.KM * E[0]
+        return luminous.illuminance_lux(E, weight)
 
     # -- the measured point ----------------------------------------------------------
 

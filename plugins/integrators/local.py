@@ -116,7 +116,6 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-
 from spectrace.plugins import params
 from spectrace.plugins.integrators.fog import FOG_LAWS
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-
 from spectrace.photometry import Photometry
 from spectrace.photometry import generate as G
 

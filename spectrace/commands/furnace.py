@@ -12,6 +12,7 @@ from pathlib import Path
 from spectrace.errors import UserError
 from spectrace.furnace import DEFAULT_ANGLES, DEFAULT_SAMPLES
 
+
 def _parse_value(text: str):
     lowered = text.strip().lower()
     if lowered in ("true", "false"):

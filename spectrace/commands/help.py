@@ -13,6 +13,8 @@ from __future__ import annotations
 import argparse
 import ast
 import importlib.util
+import os
+import sys
 
 from spectrace.errors import UserError
 
@@ -53,8 +55,16 @@ def _source(module: str) -> str:
 def page(name: str) -> str:
     """The reference page of ``name`` (its module docstring) with a legend of its marks."""
     modules = pages()
+    if name not in modules and name.lower() in modules:
+        name = name.lower()
     if name not in modules:
-        raise UserError(f"no page {name!r}; pages: {', '.join(modules)}")
+        import difflib
+
+        close = difflib.get_close_matches(name.lower(), modules, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise UserError(f"no page {name!r}; {hint}pages: {', '.join(modules)} (Mitsuba's "
+                        "own plugins, such as path or diffuse, are described at "
+                        "https://mitsuba.readthedocs.io)")
     text = ast.get_docstring(ast.parse(_source(modules[name])), clean=True) or ""
     legend = [f"  {mark} {meaning}" for mark, meaning in MARKS.items() if mark in text]
     if legend:
@@ -83,14 +93,24 @@ def listing() -> str:
             + "\nand spectrace help COMMAND the options of a command.")
 
 
+def print_lines(lines) -> None:
+    """Print to stdout; a reader that stops early (``| head``) ends the output quietly."""
+    try:
+        for line in lines:
+            print(line)
+        sys.stdout.flush()
+    except BrokenPipeError:  # no traceback, and none at exit when Python flushes again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+
+
 def run(args) -> int:
     if args.name is None:
-        print(listing())
+        print_lines([listing()])
         return 0
     from spectrace.cli import COMMANDS, build_parser
 
     if args.name in COMMANDS and args.name not in pages():
         build_parser(only=args.name).parse_args([args.name, "--help"])
         return 0
-    print(page(args.name))
+    print_lines([page(args.name)])
     return 0

@@ -30,23 +30,29 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from spectrace.photometry import read_photometry
 
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise UserError(f"--plot {args.plot}: must end in .png")
+    ph = read_photometry(args.file)  # before check_writable makes the plot's folder
     if args.plot:
         from spectrace.images import check_writable
 
-        if Path(args.plot).suffix.lower() != ".png":
-            raise UserError(f"--plot {args.plot}: must end in .png")
         check_writable(args.plot)
-    ph = read_photometry(args.file)
-    for line in describe(ph):
-        print(line)
+    lines = describe(ph)
     if args.plot:
         plot_polar(args.plot, ph)
-        print(f"{'plot':<11}{args.plot}")
+        lines.append(f"{'plot':<11}{args.plot}")
+    from spectrace.commands.help import print_lines
+
+    print_lines(lines)
     return 0
 
 
 def _one_line(text: str) -> str:
-    return " ".join(text.split())
+    """The text on one line, control characters (e.g. terminal escape codes) shown as ?."""
+    import unicodedata
+
+    text = " ".join(text.split())
+    return "".join("?" if unicodedata.category(ch).startswith("C") else ch for ch in text)
 
 
 def _angle(x: float) -> str:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -48,10 +49,11 @@ def output_paths(scene: Path, output: str | None) -> dict[str, Path]:
 def run(args) -> int:
     from spectrace import lux
     from spectrace.images import check_writable
-    from spectrace.scene import load_scene, parse_defines, read_scene_xml
+    from spectrace.scene import parse_defines, read_scene_xml
 
     scene_path = Path(args.scene)
     check_sample_counts(args.spp, args.spp_per_pass)  # before loading anything
+    lux.check_seed(args.seed, "--seed")
     if args.max_depth == 0 or args.max_depth < -1:
         raise UserError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
     plane = None if args.plane is None else lux.parse_plane(args.plane)
@@ -69,7 +71,9 @@ def run(args) -> int:
     import spectrace
 
     spectrace.set_variant(args.variant)
-    scene = load_scene(scene_path, params, root=root)
+    scene = _load(scene_path, params, root)
+    if plane is not None:  # before check_writable makes the output's folder
+        lux.check_plane_visible(scene, plane)
     for p in paths.values():  # before rendering: a bad output path costs no render time
         check_writable(p)
     spp = args.spp or scene_spp(scene)
@@ -94,9 +98,25 @@ def run(args) -> int:
     return 0
 
 
+def _load(scene_path, params, root):
+    """``load_scene`` of the rewritten tree, whose line numbers are not the file's: they are
+    dropped from the messages."""
+    from spectrace.scene import load_scene
+
+    try:
+        return load_scene(scene_path, params, root=root)
+    except UserError as e:
+        raise UserError(re.sub(r"At string \(line \d+, col \d+\): ", "", str(e))) from None
+
+
 def _render_with_progress(scene, spp, plane, args):
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn,
-                               TimeRemainingColumn)
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     from spectrace.lux import render_lux
 

@@ -9,13 +9,14 @@ plugins registered once, and Dr.Jit reuses the kernels they share). With ``--wor
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 from pathlib import Path
 
 from spectrace import DEFAULT_VARIANT
 from spectrace.errors import UserError
-from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts, scene_spp
+from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts, check_seed, scene_spp
 
 FILMS = ("rgb", "spectral")
 DEFAULT_BANDS = 16
@@ -83,13 +84,13 @@ def output_paths(scene: Path, output: str | None, film: str) -> dict[str, Path]:
 
 
 def run(args) -> int:
-    import contextlib
     import time
 
     from spectrace.images import check_writable
 
     scene_paths = [Path(s) for s in args.scene]
     check_sample_counts(args.spp, args.spp_per_pass)  # before loading anything
+    check_seed(args.seed)
     if args.film == "spectral":
         if args.bands is None:
             args.bands = DEFAULT_BANDS
@@ -158,8 +159,9 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> 
               file=sys.stderr)
     _write_outputs(result, paths, wavelengths, args, scene_path)
     rate = result.samples_per_second
-    print(f"{scene_path.name}: {result.spp} spp in {result.passes} pass{'' if result.passes == 1 else 'es'}, "
-          f"{result.seconds:.2f} s, {rate / 1e6:.2f} M samples/s -> {paths['exr']}", flush=True)
+    passes = f"{result.passes} pass{'' if result.passes == 1 else 'es'}"
+    print(f"{scene_path.name}: {result.spp} spp in {passes}, {result.seconds:.2f} s, "
+          f"{rate / 1e6:.2f} M samples/s -> {paths['exr']}", flush=True)
     if result.interrupted:
         print(f"interrupted: saved {result.spp} of {spp} spp", file=sys.stderr)
         return 130
@@ -167,21 +169,9 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> 
 
 
 def _render_with_progress(scene, spp, args, client=None, scene_path=None, params=None):
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn,
-                               TimeRemainingColumn)
-
     from spectrace.passes import render_passes
 
-    quiet = args.quiet or not sys.stderr.isatty()
-    with Progress("[progress.description]{task.description}", BarColumn(),
-                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
-                  disable=quiet,
-                  transient=True) as progress:
-        task = progress.add_task("spp", total=spp)
-
-        def on_pass(done, total):
-            progress.update(task, completed=done)
-
+    with _progress(spp, show=not args.quiet and sys.stderr.isatty()) as on_pass:
         if client is not None:
             from spectrace.cluster import SceneSpec
             from spectrace.passes import render_passes_distributed
@@ -194,6 +184,32 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
                              on_pass=on_pass)
 
 
+@contextlib.contextmanager
+def _progress(spp: int, show: bool):
+    """Yield the ``on_pass(done, total)`` callback of a progress bar over ``spp`` samples;
+    rich is imported only when the bar is shown (not -q, stderr a terminal)."""
+    if not show:
+        yield None
+        return
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    with Progress("[progress.description]{task.description}", BarColumn(),
+                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                  transient=True) as progress:
+        task = progress.add_task("spp", total=spp)
+
+        def on_pass(done, total):
+            progress.update(task, completed=done)
+
+        yield on_pass
+
+
 def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
     from spectrace.images import write_exr, write_png
 
@@ -204,7 +220,7 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         "scene": os.path.abspath(scene_path),
         "film": args.film,
     }
-    rgb = result.image[..., :3]
+    rgb = result.pixels  # a Dr.Jit tensor from the local loop: written by mi.Bitmap
     if wavelengths is not None:
         from spectrace.spectral import write_spectral_exr
         from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands

@@ -19,6 +19,7 @@ from spectrace.errors import UserError
 from spectrace.passes import DEFAULT_SPP_PER_PASS
 
 EXIT_FAILED = 1
+EXIT_INTERRUPTED = 130
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -26,7 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-D", dest="defines", action="append", default=[],
                         metavar="NAME=V1,V2,...",
                         help="values of the scene parameter $NAME (an XML <default>), "
-                        "repeatable: the sweep is the Cartesian product")
+                        "repeatable: the sweep is the Cartesian product; write a comma "
+                        "inside a value as \\, (-D color=1\\,0\\,0,0\\,0\\,1)")
     parser.add_argument("--variants", help=f"Mitsuba variants, comma-separated "
                         f"(default {DEFAULT_VARIANT})")
     parser.add_argument("--seeds", help="random seeds, comma-separated (default 0)")
@@ -56,6 +58,7 @@ def run(args) -> int:
         raise UserError(f"--workers must be a positive integer (got {args.workers})")
     grid = sweep.Grid.make(args.scene, params, variants, seeds, args.spp, args.spp_per_pass)
     outdir = Path(args.output) if args.output else Path("out") / f"sweep-{grid.scene.stem}"
+    sweep.check_outdir(outdir, create=False)  # before starting a cluster
     outcomes = sweep.plan(grid, outdir)
     todo = sum(o.status != "skipped" for o in outcomes)
     shape = " x ".join(str(n) for n in grid.shape) or "1"
@@ -65,10 +68,18 @@ def run(args) -> int:
         print(heading, file=sys.stderr, flush=True)
         outcomes = sweep.run(grid, None, outdir, outcomes=outcomes)
     else:
-        with connect(args.workers, args.scheduler, variant=grid.variants[0]) as client:
-            workers = len(client.scheduler_info(n_workers=-1)["workers"])
-            print(f"{heading} on {workers} workers", file=sys.stderr, flush=True)
-            outcomes = _run_with_progress(sweep, grid, client, outdir, outcomes, args.quiet)
+        try:
+            with connect(args.workers, args.scheduler, variant=grid.variants[0]) as client:
+                workers = len(client.scheduler_info(n_workers=-1)["workers"])
+                print(f"{heading} on {workers} workers", file=sys.stderr, flush=True)
+                outcomes = _run_with_progress(sweep, grid, client, outdir, outcomes,
+                                              args.quiet)
+        except KeyboardInterrupt:
+            done = sum(o.status in ("rendered", "skipped") for o in outcomes)
+            kept = f"{done} of {len(outcomes)} images are in {outdir} (a re-run skips them)" \
+                if done else "no image was finished"
+            print(f"interrupted: {kept}", file=sys.stderr)
+            return EXIT_INTERRUPTED
     counts = {s: sum(o.status == s for o in outcomes) for s in ("rendered", "skipped", "failed")}
     seconds = sum(o.seconds for o in outcomes if o.status == "rendered")
     print(f"{grid.scene.name}: {counts['rendered']} rendered ({seconds:.2f} s of renders), "
@@ -81,8 +92,13 @@ def run(args) -> int:
 
 
 def _run_with_progress(sweep, grid, client, outdir, outcomes, quiet):
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn,
-                               TimeRemainingColumn)
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     quiet = quiet or not sys.stderr.isatty()
     with Progress("[progress.description]{task.description}", BarColumn(),

@@ -2,8 +2,9 @@
 
 :func:`albedo_curves`: directional albedo (white furnace, :mod:`spectrace.furnace`) of a
 family of BSDFs (:data:`ENERGY_FAMILIES`) over incident angles; :func:`bounce_series`:
-the brightness of a closed box lined with one BSDF as the path length grows (it converges
-when the albedo is below 1 and diverges when the BSDF creates energy);
+the brightness of a closed box (``scenes/closed_box.xml``) lined with one BSDF as the path
+length grows (it converges when the albedo is below 1 and diverges when the BSDF creates
+energy), the grid of BSDFs x path lengths rendered as one :func:`spectrace.sweep` on Dask;
 :func:`sphere_grid_scene`: spheres of each family across exponents, in a white furnace or
 under a point light, measured sphere by sphere with :func:`shape_labels`,
 :func:`grid_position` and :func:`label_means`.
@@ -21,10 +22,20 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from spectrace.studies import aov, budget, display, load_scene, luminance, save_figure, text_table
+from spectrace.studies import (
+    aov,
+    budget,
+    display,
+    load_scene,
+    luminance,
+    save_figure,
+    scene_path,
+    text_table,
+)
 
-__all__ = ["ENERGY_FAMILIES", "albedo_curves", "beckmann_alpha", "bounce_series", "budget",
-           "classic_phong_albedo_normal", "closed_box_scene", "display", "grid_position",
+__all__ = ["CLOSED_BOX", "CLOSED_BOX_BSDFS", "ENERGY_FAMILIES", "albedo_curves",
+           "beckmann_alpha", "bounce_series", "budget", "classic_phong_albedo_normal",
+           "closed_box_bsdf", "display", "grid_position",
            "label_means", "load_scene", "luminance", "save_figure", "shape_labels",
            "sphere_grid_scene", "text_table"]
 
@@ -170,44 +181,69 @@ def label_means(image, labels, count: int) -> np.ndarray:
     return out
 
 
-def closed_box_scene(bsdf: dict, res: int = 32, spp: int = 16, max_depth: int = 2) -> dict:
-    """The inside of a closed cube (side 2 m) lined with ``bsdf``, a 1 W/sr point light in it.
+#: The BSDF ids of ``scenes/closed_box.xml`` (its ``bsdf`` parameter) that line the box
+#: with each of the :data:`ENERGY_FAMILIES` (the same BSDF at the same exponent).
+CLOSED_BOX_BSDFS: Mapping[str, str] = {
+    "classic Phong": "classic_phong",
+    "normalized Phong": "normalized_phong",
+    "normalized Blinn-Phong": "normalized_blinn_phong",
+    "roughplastic (white)": "roughplastic",
+    "roughconductor (perfect)": "roughconductor",
+}
+#: The scene of :func:`bounce_series` (``scenes/closed_box.xml``).
+CLOSED_BOX = "closed_box"
 
-    Light cannot escape, so with path tracing every bounce adds the reflected light of the
-    previous one: the image brightness after k bounces is a partial sum of a series whose
-    ratio is (about) the walls' albedo. An energy-conserving BSDF (albedo <= 1) converges
-    as max_depth grows; one reflecting more than it receives diverges. The camera (a
-    pinhole at the centre, fov 90 degrees) looks at a wall; ``rr_depth`` is set past
-    ``max_depth`` so that Russian roulette does not add noise.
+
+def closed_box_bsdf(bsdf: str, exponent: float = 2.0, reflectance: float = 0.5):
+    """The BSDF ``bsdf`` (an id of ``scenes/closed_box.xml``) that lines the closed box.
+
+    Loaded from the scene file with ``exponent`` and its matched Beckmann roughness, as
+    :func:`bounce_series` renders it (under the active variant).
     """
-    import mitsuba as mi
-
-    T = mi.ScalarTransform4f
-    return {
-        "type": "scene",
-        "integrator": {"type": "path", "max_depth": max_depth, "rr_depth": max_depth + 1},
-        "sensor": {
-            "type": "perspective", "fov": 90.0,
-            "to_world": T().look_at(origin=[0, 0, 0], target=[0, 0, -1], up=[0, 1, 0]),
-            "sampler": {"type": "independent", "sample_count": spp},
-            "film": {"type": "hdrfilm", "width": res, "height": res,
-                     "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        },
-        "box": {"type": "cube", "flip_normals": True, "bsdf": bsdf},
-        "light": {"type": "point", "position": [0.3, 0.5, 0.2],
-                  "intensity": {"type": "rgb", "value": 1.0}},
-    }
+    scene = load_scene(CLOSED_BOX, **_box_defines(exponent, reflectance), bsdf=bsdf, res="1")
+    return scene.shapes()[0].bsdf()
 
 
-def bounce_series(bsdf: dict, depths: Sequence[int], res: int = 32, spp: int = 16,
-                  seed: int = 0) -> np.ndarray:
-    """Mean luminance of :func:`closed_box_scene` for each ``max_depth`` in ``depths``."""
-    import mitsuba as mi
+def _box_defines(exponent: float, reflectance: float) -> dict[str, str]:
+    return {"exponent": repr(float(exponent)), "alpha": repr(float(beckmann_alpha(exponent))),
+            "reflectance": repr(float(reflectance))}
+
+
+def bounce_series(bsdfs: Sequence[str] | str, depths: Sequence[int], exponent: float = 2.0,
+                  res: int = 32, spp: int = 16, seed: int = 0, *, reflectance: float = 0.5,
+                  variant: str | None = None, client=None):
+    """Mean luminance of ``scenes/closed_box.xml`` lined with each of ``bsdfs`` (ids of the
+    scene, e.g. :data:`CLOSED_BOX_BSDFS` values) for each ``max_depth`` in ``depths``.
+
+    The walls' Phong ``exponent`` m (and the matched roughness sqrt(2 / (m + 2)) of the
+    microfacet BSDFs; ``reflectance`` of ``diffuse``). Rendered as one
+    :func:`spectrace.sweep` over bsdf x max_depth, in ``variant`` (default: the active one)
+    with ``seed``, on ``client`` (a ``distributed.Client``; None: a LocalCluster for this
+    call). Returns an ``xarray.DataArray`` of dims (bsdf, max_depth) (max_depth as
+    integers), in W m^-2 sr^-1 (Y); RuntimeError if an image failed. ``spp``: a power of 4
+    or a multiple of 16 (passes of 16; the scene's ``ldsampler`` rounds a pass up to 4^k).
+    """
+    import sys
+
+    import xarray as xr
 
     import spectrace
 
-    out = []
-    for depth in depths:
-        scene = mi.load_dict(closed_box_scene(bsdf, res, spp, depth))
-        out.append(luminance(spectrace.render(scene, spp=spp, seed=seed).image).mean())
-    return np.asarray(out)
+    if isinstance(bsdfs, str):
+        bsdfs = [bsdfs]
+    if variant is None:  # the active one (mitsuba is imported only after set_variant)
+        mi = sys.modules.get("mitsuba")
+        variant = (mi.variant() if mi is not None else None) or spectrace.DEFAULT_VARIANT
+    fixed = {**_box_defines(exponent, reflectance), "res": str(int(res))}
+    images = spectrace.sweep(scene_path(CLOSED_BOX),
+                             params={"bsdf": list(bsdfs), "max_depth": [int(d) for d in depths],
+                                     **fixed},
+                             variants=variant, seeds=seed, spp=spp, client=client)
+    if images.attrs["failed"]:
+        raise RuntimeError("bounce_series: " + "; ".join(images.attrs["failed"]))
+    images = images.isel({name: 0 for name in fixed}, drop=True)
+    Y = luminance(images.values).mean(axis=(-2, -1))  # (bsdf, max_depth)
+    attrs = {k: images.attrs[k] for k in ("spp", "seed", "variant", "scene")}
+    return xr.DataArray(Y, dims=["bsdf", "max_depth"],
+                        coords={"bsdf": list(bsdfs), "max_depth": [int(d) for d in depths]},
+                        attrs={**attrs, "exponent": float(exponent)}, name="mean luminance")

@@ -17,9 +17,8 @@ luminaires of a 3000 K LED spectrum) measured as a lighting designer would:
   work plane / lumens emitted, direct and with interreflections; :func:`task_area` masks
   the plane without the 0.5 m border zone of EN 12464-1 for the uniformity U0;
 * :func:`room_image` renders the room itself, in spectral or RGB variants at the same
-  exposure (RGB variants carry the luminous scale in the colour's luminance, spectral ones
-  in a density per nanometre: the scene's ``exposure`` is divided by
-  :func:`cie_y_integral` for RGB).
+  exposure (one photometric scale in every variant: a colour stands for the spectra of
+  the same film Y, see ``spectrace help luminous``).
 
 Sources: CIE 121-1996 (photometry of luminaires); EN 12464-1:2021 (work plane, task area,
 border zone, uniformity U0); IES LM-63-2019 (Type C angles); Tregenza and Loe (2014),
@@ -38,7 +37,7 @@ import numpy as np
 from spectrace.studies import budget, display, load_scene, save_figure, scene_path, text_table
 
 __all__ = ["BORDER", "ROOM", "ROOM_X", "ROOM_Z", "WORK_PLANE_HEIGHT", "Luminaire", "WorkPlane",
-           "budget", "cie_y_integral", "display", "hand_calculation", "load_scene",
+           "budget", "display", "hand_calculation", "load_scene",
            "luminaire_frame", "polar_curve", "room_image", "room_luminaires", "save_figure",
            "task_area", "text_table", "uniformity", "utilisation_factor", "work_plane"]
 
@@ -143,26 +142,15 @@ def hand_calculation(luminaires, points, normal=(0.0, 1.0, 0.0)) -> np.ndarray:
 
 # -- rendering --------------------------------------------------------------------------------
 
-def cie_y_integral() -> float:
-    """integral of the CIE 1931 ybar over 360-830 nm (nm, colour-science, 1 nm steps): how
-    much brighter a light of given candela looks in RGB than in spectral variants."""
-    import colour
-
-    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
-    return float(np.sum(cmfs[np.arange(360.0, 831.0)][:, 1]))
-
-
-def room_image(variant: str, res: int, spp: int, exposure: float = 120.0,
+def room_image(variant: str, res: int, spp: int, exposure: float | None = None,
                seed: int = 0) -> np.ndarray:
-    """The room (its own camera and ``path`` integrator) as linear sRGB (H, W, 3): spectral
-    variants at ``exposure``, RGB ones at ``exposure`` / :func:`cie_y_integral` (the same
-    photometric exposure)."""
+    """The room (its own camera and integrator) as linear sRGB (H, W, 3) in ``variant``, at
+    the display ``exposure`` (None: the scene's own), the same in every variant."""
     import spectrace
 
     spectrace.set_variant(variant)
-    if "spectral" not in variant:
-        exposure = exposure / cie_y_integral()
-    scene = load_scene(ROOM, res=res, spp=spp, exposure=exposure)
+    extra = {} if exposure is None else {"exposure": exposure}
+    scene = load_scene(ROOM, res=res, spp=spp, **extra)
     return spectrace.render(scene, spp=spp, seed=seed).image[..., :3]
 
 

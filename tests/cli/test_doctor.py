@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from spectrace.cli import main
 from spectrace import llvm
+from spectrace.cli import main
 from spectrace.llvm import ENV_VAR
 
 

@@ -88,7 +88,7 @@ def test_plugin_page_example_loads(variant_spectral, name):
     import mitsuba as mi
 
     example = help_command.page(name).split("\nExample\n", 1)[1]
-    xml = re.search(r"^    (<(\w+) type=\"%s\".*?^    </\2>)" % name, example, re.M | re.S)
+    xml = re.search(rf"^    (<(\w+) type=\"{name}\".*?^    </\2>)", example, re.M | re.S)
     assert xml, "no XML example"
     text = re.sub(r"^    ", "", xml.group(1), flags=re.M)
     mi.load_string(text.replace(f'type="{name}"', f'type="{name}" version="3.0.0"', 1))
@@ -101,3 +101,41 @@ def test_readme_help_commands_work(capsys):
     for command in commands:
         assert main(command.split()) == 0, command
         assert capsys.readouterr().out.strip(), command
+
+
+def test_page_names_are_forgiving(capsys):
+    """``help PHONG`` is the page of phong; a misspelt name is answered with the closest
+    page and a pointer to Mitsuba's own plugins, in one line."""
+    assert main(["help", "PHONG"]) == 0
+    assert capsys.readouterr().out.startswith("``phong``")
+    assert main(["help", "pointlite"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "did you mean 'pointlight'" in err and "Mitsuba" in err
+
+
+def test_reader_that_stops_early_is_no_traceback():
+    """``spectrace help ieslight | head -1``: the reader closes the pipe, the command ends
+    quietly (it printed a BrokenPipeError traceback)."""
+    import os
+
+    read, write = os.pipe()
+    os.close(read)  # the reader is gone before the page is written
+    code = "from spectrace.cli import main; raise SystemExit(main(['help', 'ieslight']))"
+    done = subprocess.run([sys.executable, "-c", code], stdout=write, stderr=subprocess.PIPE,
+                          text=True, timeout=60)
+    os.close(write)
+    assert done.returncode == 0 and "BrokenPipe" not in done.stderr, done.stderr
+
+
+def test_any_command_whose_reader_stops_early_is_no_traceback():
+    """``spectrace render --help | head -1``: a closed pipe ends any command quietly (the
+    command line's own handler, not each command's)."""
+    import os
+
+    read, write = os.pipe()
+    os.close(read)
+    code = "from spectrace.cli import main; raise SystemExit(main(['render', '--help']))"
+    done = subprocess.run([sys.executable, "-c", code], stdout=write, stderr=subprocess.PIPE,
+                          text=True, timeout=60)
+    os.close(write)
+    assert done.returncode == 0 and "BrokenPipe" not in done.stderr, done.stderr

@@ -6,9 +6,9 @@ import re
 
 import numpy as np
 import pytest
+from spectrace.photometry import generate as G
 
 from spectrace.cli import main
-from spectrace.photometry import generate as G
 
 FLUX_RTOL = 2e-3  # printed with one decimal; the table integrates cos^n to 0.1%
 ANGLE_ATOL = 0.15  # printed with one decimal; crossings between 0.5-degree samples
@@ -69,3 +69,23 @@ def test_bad_file_exits_2_with_one_line(capsys, tmp_path):
         assert rc == 2 and out == ""
         assert err.startswith("error: ") and err.count("\n") == 1 and str(path) in err
     assert not (tmp_path / "p.png").exists()
+
+
+def test_bad_file_makes_no_plot_folder(capsys, tmp_path):
+    """A file that cannot be read is refused before --plot's folder is made (an empty
+    folder was left behind)."""
+    plot = tmp_path / "plots" / "p.png"
+    rc, out, err = run(capsys, str(tmp_path / "missing.ies"), "--plot", str(plot))
+    assert rc == 2 and err.startswith("error: ")
+    assert not plot.parent.exists()
+
+
+def test_control_characters_of_keywords_are_not_printed(capsys, tmp_path):
+    """A keyword holding terminal escape codes (ESC [2J clears the screen) is printed with
+    its control characters shown as '?', never sent to the terminal."""
+    path = G.write_ies_function(tmp_path / "esc.ies", G.cos_power(100.0, 2),
+                                keywords={"LUMINAIRE": "Evil \x1b[2J\x07 spot"})
+    rc, out, err = run(capsys, str(path))
+    assert rc == 0, err
+    assert "\x1b" not in out and "\x07" not in out
+    assert "luminaire  Evil ?[2J? spot" in out

@@ -151,3 +151,69 @@ def test_errors_exit_2_in_one_line_and_write_nothing(tmp_path, capsys, monkeypat
     after = set(os.listdir(tmp_path))
     assert after - before <= {"out"}
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+def test_invisible_plane_and_bad_seed_create_no_output_folder(tmp_path, capsys):
+    """A work plane behind the camera is found before the output's folder is made (an empty
+    folder was left behind), and a seed beyond 32 bits, which the EXR header wrapped, is
+    refused: exit 2, one line, no folder."""
+    scene = write_scene(tmp_path)
+    out = tmp_path / "new" / "map.exr"
+    base = ["lux", str(scene), "-o", str(out), "--variant", "llvm_ad_rgb", "-q"]
+    assert main([*base, "--plane", "0,9,0 0,1,0"]) == EXIT_USAGE
+    assert_one_line_error(capsys, "--plane", "sees no point")
+    assert main([*base, "--seed", "99999999999"]) == EXIT_USAGE
+    assert_one_line_error(capsys, "--seed")
+    assert not out.parent.exists()
+
+
+def test_missing_ies_names_the_folders_and_no_string_line(tmp_path, capsys, monkeypatch):
+    """An ieslight whose relative filename is not beside the scene: the one-line error says
+    where it was looked for (the scene's folder), and carries no 'At string (line ...)'
+    of the rewritten tree, whose line numbers are not the file's."""
+    scene_dir = tmp_path / "scenes"
+    scene_dir.mkdir()
+    light = '<emitter type="ieslight"><string name="filename" value="lum/none.ies"/></emitter>'
+    scene = write_scene(scene_dir, light=light)
+    monkeypatch.chdir(tmp_path)
+    code = main(["lux", str(scene), "-o", str(tmp_path / "map.exr"), "--variant",
+                 "llvm_ad_rgb", "-q"])
+    assert code == EXIT_USAGE
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("error: ") and "At string" not in err, err
+    assert "no such file 'lum/none.ies'" in err and str(scene_dir) in err, err
+    assert not (tmp_path / "map.exr").exists()
+
+
+@pytest.mark.parametrize("how", ["raised", "swallowed"])
+def test_ctrl_c_while_loading_is_an_interrupt(tmp_path, capsys, how):
+    """Ctrl-C while Mitsuba builds the plugins comes back as a plugin error: either the
+    KeyboardInterrupt inside a RuntimeError, or (swallowed, e.g. by a half-done import) a
+    later error. Both are exit 130 'interrupted', not exit 2 with that message. A Python
+    emitter whose constructor gets the Ctrl-C stands in for a slow plugin."""
+    import signal
+
+    import spectrace
+
+    spectrace.set_variant("llvm_ad_rgb")
+    import mitsuba as mi
+
+    class Interrupted(mi.Emitter):
+        def __init__(self, props):
+            super().__init__(props)
+            if how == "raised":
+                raise KeyboardInterrupt
+            try:
+                signal.raise_signal(signal.SIGINT)
+            except KeyboardInterrupt:
+                pass
+            raise AttributeError("module 'colour' has no attribute 'colorimetry'")
+
+    mi.register_emitter("test_interrupted", lambda props: Interrupted(props))
+    scene = write_scene(tmp_path, light='<emitter type="test_interrupted"/>')
+    code = main(["lux", str(scene), "-o", str(tmp_path / "map.exr"), "--variant",
+                 "llvm_ad_rgb", "-q"])
+    assert code == 130
+    assert capsys.readouterr().err.strip().splitlines()[-1] == "interrupted"
+    assert not (tmp_path / "map.exr").exists()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

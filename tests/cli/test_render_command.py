@@ -11,9 +11,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from spectrace.cli import main
-from spectrace.images import read_exr
+from spectrace.images import encode_srgb_8bit, read_exr
 
 ROOT = Path(__file__).resolve().parents[2]
 SHOWCASE = ROOT / "scenes" / "showcase.xml"
@@ -41,7 +42,8 @@ def assert_one_line_error(capsys, *words):
 
 
 def test_render_writes_exr_and_png_with_header(tmp_path):
-    """The EXR holds finite float32 R, G, B with spp/variant/seed/scene; a PNG is beside it."""
+    """The EXR holds finite float32 R, G, B with spp/variant/seed/scene/film; beside it the
+    PNG holds the same pixels as 8-bit sRGB codes; the files have the umask's mode."""
     code, out = render(tmp_path, "--variant", "llvm_ad_rgb", "--seed", "5")
     assert code == 0
     rgb, header = read_exr(out)
@@ -49,8 +51,11 @@ def test_render_writes_exr_and_png_with_header(tmp_path):
     assert np.isfinite(rgb).all() and rgb.mean() > 0
     assert header["spp"] == 4 and header["seed"] == 5
     assert header["variant"] == "llvm_ad_rgb" and header["scene"].endswith("showcase.xml")
+    assert header["film"] == "rgb"
     png = out.with_suffix(".png")
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with Image.open(png) as im:  # the PNG is the EXR's pixels, sRGB-encoded to 8 bits
+        np.testing.assert_array_equal(np.asarray(im.convert("RGB")), encode_srgb_8bit(rgb))
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp files
     umask = os.umask(0)
     os.umask(umask)
@@ -112,6 +117,7 @@ def test_bad_scene_is_a_one_line_error(tmp_path, capsys, case):
         (["-D", "novalue"], "novalue"),
         (["-D", "res=abc"], "abc"),
         (["--film", "spectral", "--variant", "llvm_ad_rgb"], "spectral"),
+        (["--seed", str(2**31)], "--seed"),  # the EXR header's seed is a 32-bit integer
     ],
 )
 def test_bad_option_is_a_one_line_error(tmp_path, capsys, args, word):
@@ -201,6 +207,7 @@ def test_spectral_film_writes_bands_and_matching_rgb(tmp_path):
     """--film spectral: OUT.spectral.exr holds N bands; OUT.exr is their sRGB conversion
     and agrees with the scene's own RGB film on average."""
     from spectrace.spectral import read_spectral_exr
+
     from spectrace.spectral_film import bands_to_linear_srgb
 
     out = tmp_path / "s.exr"

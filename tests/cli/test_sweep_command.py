@@ -90,3 +90,63 @@ def test_sweep_writes_images_equal_to_render_and_names_failures(tmp_path, capsys
                  "--spp", "4", "--variant", VARIANT, "-o", str(ref), "-q"]) == 0
     np.testing.assert_allclose(read_exr(out / rows[0]["file"])[0], read_exr(ref)[0],
                                rtol=SAME_SEED_RTOL, atol=SAME_SEED_ATOL)
+
+
+def test_outdir_that_is_a_file_exits_2_before_any_cluster(tmp_path, capsys, monkeypatch):
+    """OUTDIR is a file, or lies under one: exit 2 with one line saying so, before a cluster
+    is started (the message was 'File exists', after the workers had started)."""
+    from spectrace import cluster
+
+    def no_cluster(*args, **kwargs):
+        raise AssertionError("a cluster was started")
+
+    monkeypatch.setattr(cluster, "connect", no_cluster)
+    a_file = tmp_path / "taken"
+    a_file.write_text("not a folder")
+    for out, words in ((a_file, ("is a file",)), (a_file / "sub", ("inside", "is a file"))):
+        code = main(["sweep", str(SHOWCASE), "-D", "res=16", "-o", str(out), "-q"])
+        assert code == EXIT_USAGE
+        assert_one_line_error(capsys, str(out), *words)
+    assert a_file.read_text() == "not a folder"
+
+
+def test_escaped_comma_long_values_and_seed_range():
+    """`\\,` keeps a comma inside a value (an RGB triple); a value too long for a file name
+    gets a short unique stem (it raised 'File name too long'); seeds must fit 32 bits."""
+    from spectrace import sweep
+    from spectrace.errors import UserError
+
+    params = sweep.parse_sweep_defines([r"color=0.9\,0.1\,0.1,1\,1\,1", "res=8,8,16"])
+    assert params == {"color": ["0.9,0.1,0.1", "1,1,1"], "res": ["8", "16"]}
+    long_a, long_b = "a" * 400, "a" * 399 + "b"
+    stems = [sweep.Combination((("name", v),), "llvm_ad_rgb", 0).stem()
+             for v in (long_a, long_b)]
+    assert len(set(stems)) == 2
+    assert all(len(s.encode()) <= sweep.MAX_STEM for s in stems)
+    assert all(s.endswith("_llvm_ad_rgb_seed0") for s in stems)
+    with pytest.raises(UserError, match="--seeds 99999999999"):
+        sweep.Grid.make(SHOWCASE, {"res": [8]}, VARIANT, [99999999999])
+
+
+def test_ctrl_c_says_how_many_images_are_kept(tmp_path, capsys, monkeypatch):
+    """Ctrl-C during a sweep: exit 130 and one line saying how many images are in OUTDIR
+    for a re-run to skip (it printed only 'interrupted')."""
+    import contextlib
+
+    from spectrace import cluster
+    from spectrace.commands import sweep as sweep_command
+
+    class Client:
+        def scheduler_info(self, n_workers=-1):
+            return {"workers": {"tcp://127.0.0.1:1": {}}}
+
+    def interrupted_run(sweep, grid, client, outdir, outcomes, quiet):
+        outcomes[0].status = "rendered"  # one image written, then Ctrl-C
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cluster, "connect", lambda *a, **k: contextlib.nullcontext(Client()))
+    monkeypatch.setattr(sweep_command, "_run_with_progress", interrupted_run)
+    code = main(["sweep", str(SHOWCASE), "-D", "res=8,16", "-o", str(tmp_path / "s"), "-q"])
+    assert code == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == f"interrupted: 1 of 2 images are in {tmp_path / 's'} (a re-run skips them)"

@@ -13,11 +13,10 @@ import json
 import sys
 from pathlib import Path
 
-import pytest
-
 import ipykernel  # noqa: F401  (the notebooks' kernel: a test dependency, never skipped)
 import nbclient
 import nbformat
+import pytest
 from jupyter_client.kernelspec import KernelSpecManager
 from jupyter_client.manager import KernelManager
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from spectrace.errors import UserError
 from spectrace.photometry import generate as G
 from spectrace.photometry import read_photometry
+
+from spectrace.errors import UserError
 
 GAMMA = np.arange(0.0, 90.001, 15.0)
 
@@ -111,3 +111,64 @@ def test_ldt_errors(tmp_path):
     assert_error(path, "line 3", "Isym")
     path.write_text("\n".join([*lines[:-1], "lots"]))
     assert_error(path, "'lots' is not a number")
+
+
+@pytest.mark.parametrize("count", ["1e12", "1e300"])
+def test_absurd_angle_count_is_truncation_not_a_crash(tmp_path, count):
+    """A corrupt count of vertical angles (10^12, 10^300) is reported as a file that ends
+    early, before any array of that size is allocated (it raised MemoryError/ValueError)."""
+    path = good_ies(tmp_path)
+    head, nums = numbers_of(path)
+    nums[3] = count  # number of vertical angles
+    path.write_text(head + " ".join(nums))
+    assert_error(path, "vertical angles", "truncated", "about 10^")
+
+
+def test_ldt_absurd_plane_count_is_truncation_not_a_crash(tmp_path):
+    """EULUMDAT without symmetry (Isym 0, every plane stored) and Mc = 10^12: the count is
+    checked against the numbers present before the planes are listed."""
+    path = G.write_ldt(tmp_path / "big.ldt", G.cos_power(100.0, 2), isym=0,
+                       gamma_angles=GAMMA)
+    lines = path.read_text().splitlines()
+    lines[3] = "1000000000000"  # line 4: Mc
+    path.write_text("\n".join(lines))
+    assert_error(path, "intensities", "truncated", "about 10^12 C-angles")
+
+
+def test_factors_that_overflow_are_refused(tmp_path):
+    """Candela multiplier 1e300 times 1e300 cd is not a finite intensity: refused (it gave
+    a flux of inf lm and a downward share of nan %)."""
+    h = np.array([0.0])
+    path = G.write_ies(tmp_path / "big.ies", GAMMA, h, np.full((1, GAMMA.size), 1e300),
+                       multiplier=1e300, newline="\n")
+    assert_error(path, "candela values", "overflow")
+    ldt = G.write_ldt(tmp_path / "big.ldt", G.cos_power(100.0, 2), isym=1,
+                      gamma_angles=GAMMA)
+    lines = ldt.read_text().splitlines()
+    lines[23] = lines[28] = "1e300"  # line 24: conversion factor, 29: flux of lamp set 1
+    ldt.write_text("\n".join(lines))
+    assert_error(ldt, "candela values", "overflow")
+
+
+def test_ldt_with_doubled_carriage_returns_reads(tmp_path):
+    """A EULUMDAT file whose CRLF line ends were converted once more ("\\r\\r\\n", a
+    text-mode transfer) reads as the original, not as blank lines between the fields."""
+    path = G.write_ldt(tmp_path / "ok.ldt", G.cos_power(100.0, 2), isym=1,
+                       gamma_angles=GAMMA)
+    doubled = tmp_path / "doubled.ldt"
+    doubled.write_bytes(path.read_bytes().replace(b"\r\n", b"\n").replace(b"\n", b"\r\r\n"))
+    np.testing.assert_array_equal(read_photometry(doubled).candela,
+                                  read_photometry(path).candela)
+
+
+def test_devices_and_fifos_are_refused_without_reading(tmp_path):
+    """A FIFO (reading it would block until a writer comes) and /dev/zero (endless), as
+    the file or as its TILT file, are refused as 'not a regular file'."""
+    import os
+
+    fifo = tmp_path / "pipe.ies"
+    os.mkfifo(fifo)
+    assert_error(fifo, "not a regular file")
+    path = good_ies(tmp_path)
+    path.write_text(path.read_text().replace("TILT=NONE", "TILT=/dev/zero"))
+    assert_error(path, "TILT", "not a regular file")

@@ -12,7 +12,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from spectrace.photometry import generate as G
 from spectrace.photometry import read_photometry
 

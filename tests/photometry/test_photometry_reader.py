@@ -10,7 +10,6 @@ import re
 
 import numpy as np
 import pytest
-
 from spectrace.photometry import generate as G
 from spectrace.photometry import read_photometry, type_b_to_c, type_c_to_b
 

@@ -7,7 +7,7 @@ oracle: the closed-form formula, independent of the plugin's Dr.Jit code).
 from __future__ import annotations
 
 import drjit as dr
-import mitsuba as mi  # noqa: F401  (re-imported in functions: the variant may change)
+import mitsuba as mi  # one module whatever the variant: mi.Float etc. follow set_variant
 import numpy as np
 
 #: Relative tolerance of float32 evaluations against float64 formulas.
@@ -25,8 +25,6 @@ WAVELENGTHS = (450.0, 520.0, 580.0, 640.0)
 
 
 def load(plugin: str, **params):
-    import mitsuba as mi
-
     return mi.load_dict({"type": plugin, **params})
 
 
@@ -45,8 +43,6 @@ def direction(theta_deg, phi_deg=0.0):
 
 def surface_interaction(wi, n=None):
     """A SurfaceInteraction3f at uv (0.5, 0.5) with local incident directions ``wi``."""
-    import mitsuba as mi
-
     wi = np.atleast_2d(np.asarray(wi, dtype=float))
     if n is None:
         n = wi.shape[0]
@@ -63,23 +59,17 @@ def surface_interaction(wi, n=None):
 
 
 def vec(a):
-    import mitsuba as mi
-
     a = np.asarray(a, dtype=float)
     return mi.Vector3f(a[:, 0], a[:, 1], a[:, 2])
 
 
 def spectrum_np(x):
     """A Mitsuba spectrum as a numpy array of shape (n, channels)."""
-    import mitsuba as mi
-
     return np.array(mi.unpolarized_spectrum(x), dtype=np.float64).T
 
 
 def eval_np(bsdf, wi, wo):
     """bsdf.eval and bsdf.pdf at local directions (n, 3) as numpy arrays."""
-    import mitsuba as mi
-
     si = surface_interaction(wi)
     ctx = mi.BSDFContext()
     value = spectrum_np(bsdf.eval(ctx, si, vec(wo)))
@@ -97,8 +87,6 @@ def model_np(lobe, normalization, wi, wo, rho, rho_s, m, normalized):
 
 def sample(bsdf, wi, n, seed=0):
     """(bs, weight) for n samples at incident direction wi, from a seeded PCG32."""
-    import mitsuba as mi
-
     si = surface_interaction(wi, n)
     rng = mi.PCG32(size=n, initstate=mi.UInt64(seed) + 12345)
     bs, weight = bsdf.sample(
@@ -110,7 +98,6 @@ def sample(bsdf, wi, n, seed=0):
 def chi2_adapter(params: dict, wi):
     """(sample_func, pdf_func) for mitsuba.chi2.ChiSquareTest that, unlike the stock
     BSDFAdapter, sets the wavelengths of the surface interaction in spectral variants."""
-    import mitsuba as mi
 
     bsdf = mi.load_dict(params)
     ctx = mi.BSDFContext()
@@ -171,7 +158,6 @@ def prb_gradient_and_fd(plugin: str, key: str, value: float, h: float, res=16, s
     A sphere lit by Mitsuba's point light only, max_depth 2: the image is linear in the
     reflectances, so the finite difference is exact up to rounding.
     """
-    import mitsuba as mi
 
     scene = mi.load_dict({
         "type": "scene",
@@ -295,8 +281,6 @@ def check_below_horizon(plugin, rng, n=1000):
 
 def check_weight_is_eval_over_pdf(plugin, n=20000):
     """sample() returns weight = eval/pdf and bs.pdf = pdf at the sampled direction."""
-    import mitsuba as mi
-
     for m, normalized, theta in ((3.0, False, 20.0), (80.0, True, 60.0)):
         bsdf = load(plugin, exponent=m, normalized=normalized,
                     diffuse_reflectance={"type": "rgb", "value": [0.3, 0.5, 0.2]},
@@ -326,7 +310,6 @@ def weight_cv(plugin, theta, m=120.0, n=100_000):
 def check_components(plugin, lobe, normalization, rng, n=500):
     """A BSDFContext selecting one component gives that component alone, for eval and
     for sample (which then only draws that component)."""
-    import mitsuba as mi
 
     rho, rho_s, m = 0.6, 0.3, 10.0
     bsdf = load(plugin, exponent=m, diffuse_reflectance=rho, specular_reflectance=rho_s)
@@ -351,8 +334,6 @@ def check_components(plugin, lobe, normalization, rng, n=500):
 
 def check_traverse(plugin, lobe, normalization, rng, n=200):
     """Parameters exposed by traverse update eval (reflectances and exponent)."""
-    import mitsuba as mi
-
     bsdf = load(plugin, exponent=4.0, diffuse_reflectance=0.2, specular_reflectance=0.2)
     params = mi.traverse(bsdf)
     for key in ("diffuse_reflectance.value", "specular_reflectance.value", "exponent"):
@@ -383,7 +364,6 @@ BAD_PARAMETERS = (
 
 def check_bad_parameter(plugin, params, name):
     """An invalid parameter fails at load with a message naming the plugin and parameter."""
-    import mitsuba as mi
     import pytest
 
     with pytest.raises(Exception) as info:
@@ -395,7 +375,6 @@ def check_exponent_gradient(plugin, lobe, normalization, rng, n=1000):
     """d eval / d exponent (forward-mode AD through traverse) equals the central
     difference of the closed-form model, and stays finite where the lobe vanishes
     (random directions: r.wo <= 0 for about half of them with phong)."""
-    import mitsuba as mi
 
     m, h = 6.0, 1e-3
     wi, wo = hemisphere(rng, n), hemisphere(rng, n)
@@ -419,7 +398,6 @@ def check_textured_reflectance(plugin, lobe, normalization, rng, n=1000):
     """A texture (Mitsuba's checkerboard) as diffuse_reflectance is looked up at the hit's
     uv: with rho_s = 0 the BSDF equals Mitsuba's `diffuse` with the same texture, and the
     specular texture scales the lobe."""
-    import mitsuba as mi
 
     checker = {"type": "checkerboard", "color0": 0.1, "color1": 0.9}
     ours = load(plugin, diffuse_reflectance=checker, specular_reflectance=0.0)

@@ -173,8 +173,9 @@ def sphere_quadrature(n_theta: int, n_phi: int):
     return d, w
 
 
-#: integral of Mitsuba's CIE 1931 ybar over 360-830 nm (nm): the normalisation of the
-#: spectral film's Y (a constant spectrum of radiance 1 has Y = 1).
+#: integral of the CIE 1931 ybar (= CIE 1924 V) over 360-830 nm (nm, 1 nm sum of
+#: colour-science's table): the normalisation of the spectral film's Y (a constant spectrum
+#: of radiance 1 has Y = 1; Mitsuba's own table sums to 0.1% less).
 CIE_Y_INTEGRAL = 106.856895
 #: K_m (lm/W), written here as the oracle's own constant (CIE 018:2019).
 KM = 683.0
@@ -190,12 +191,11 @@ def lux_from_film_y(Y):
     integral L ybar dlambda / integral ybar dlambda with ybar = V (CIE 1931 ybar is the
     CIE 1924 V), so integral V L = CIE_Y_INTEGRAL * Y and E_v = (pi / RHO) K_m
     CIE_Y_INTEGRAL Y. RGB variants: Y = 0.2126 R + 0.7152 G + 0.0722 B of the linear
-    sRGB radiance, and the photometric convention of RGB rendering is E_v = K_m Y(E), so
-    E_v = (pi / RHO) K_m Y. Mono variants: Y is the one value, E_v = (pi / RHO) K_m Y.
+    sRGB radiance, and the photometric convention of RGB rendering is that a colour stands
+    for the spectra of the same film Y, E_v = K_m CIE_Y_INTEGRAL Y(E): the same formula.
+    Mono variants: Y is the one value, the same formula again.
     """
-    import mitsuba as mi
-
-    return np.pi / RHO * KM * (CIE_Y_INTEGRAL if mi.is_spectral else 1.0) * np.asarray(Y)
+    return np.pi / RHO * KM * CIE_Y_INTEGRAL * np.asarray(Y)
 
 
 def lux_at(light: dict, point, spp: int, seed: int = 0) -> float:

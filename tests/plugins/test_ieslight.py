@@ -6,8 +6,8 @@ an isotropic file against ``pointlight``, light tracing, the sampling of ``sampl
 The photometric files are written by ``spectrace.photometry.generate`` into ``tmp_path``;
 the oracle of the intensity is ``Photometry.intensity`` of the file read back (its own
 tests check it against the analytic profiles). In RGB variants a white ``spectrum`` has
-luminance Y = 1, so the light emits I_e = I_v / 683 W/sr per cd (K_m = 683 lm/W, written
-here as the oracle's own constant).
+luminance Y = 1, so the light emits I_e = I_v / (683 integral V dlambda) W/sr per cd
+(K_m = 683 lm/W, written here as the oracle's own constant).
 """
 
 from __future__ import annotations
@@ -18,6 +18,9 @@ import pytest
 
 #: K_m (lm/W), CIE 018:2019.
 KM = 683.0
+#: W/sr per cd of a white (d65) light in RGB variants: 1 / (K_m integral V dlambda), a
+#: colour standing for the spectra of the same film Y (``spectrace help luminous``).
+WATTS_PER_CD = 1.0 / (KM * checks.CIE_Y_INTEGRAL)
 #: The profile lookup against Photometry.intensity (float32 angles from float32
 #: directions), relative to the profile's peak.
 RTOL_LOOKUP = 2e-5
@@ -132,8 +135,8 @@ WHITE = {"type": "rgb", "value": [1.0, 1.0, 1.0]}
 
 @pytest.mark.parametrize("kind", ["C", "B", "B_full"])
 def test_lookup_matches_photometry_intensity(variant_rgb, tmp_path, rng, kind):
-    """The emitted intensity in a direction at (gamma, C) of the local frame is 1/683 W/sr
-    per cd of ``Photometry.intensity(gamma, C)`` (bilinear on the file's irregular angles:
+    """The emitted intensity in a direction at (gamma, C) of the local frame is WATTS_PER_CD
+    W/sr per cd of ``Photometry.intensity(gamma, C)`` (bilinear on the file's irregular angles:
     (gamma, C) of a Type C file, (H, V) of a Type B one, zero outside the measured range),
     at random angles and at the file's own angles."""
     import mitsuba as mi
@@ -145,7 +148,7 @@ def test_lookup_matches_photometry_intensity(variant_rgb, tmp_path, rng, kind):
     gamma = np.concatenate([rng.uniform(0, 180, 4000), g_nodes.ravel()])
     c = np.concatenate([rng.uniform(0, 360, 4000), c_nodes.ravel()])
     value = checks.eval_intensity(light, direction(gamma, c))
-    expected = photometry.intensity(gamma, c) / KM
+    expected = photometry.intensity(gamma, c) * WATTS_PER_CD
     assert expected.max() > 0 and np.any(expected == 0)
     np.testing.assert_allclose(value, np.repeat(expected[:, None], 3, axis=1), rtol=0,
                                atol=RTOL_LOOKUP * expected.max())
@@ -198,7 +201,7 @@ def test_render_turned_profile_against_closed_form(variant_rgb, tmp_path):
 
     def directional(d, r):
         gamma, c = local_angles(d @ R)  # R^T d: world to local
-        return photometry.intensity(gamma, c) / KM / r**2
+        return photometry.intensity(gamma, c) * WATTS_PER_CD / r**2
 
     expected = checks.closed_form(p, P_LIGHT, directional)
     assert expected.max() > 0 and np.count_nonzero(expected) > expected.size // 4
@@ -350,13 +353,13 @@ def test_sample_ray_chi2_and_weights(variant_rgb, tmp_path, rng, kind):
     np.testing.assert_allclose(np.array(ray.o, dtype=np.float64).T[0], P_LIGHT, rtol=1e-6)
     np.testing.assert_allclose(np.linalg.norm(d, axis=1), 1.0, rtol=1e-5)
     gamma, c = local_angles(d @ R)
-    intensity = photometry.intensity(gamma, c) / KM
+    intensity = photometry.intensity(gamma, c) * WATTS_PER_CD
     density = np.array(pdf(mi.Vector3f(np.array(ray.d))), dtype=np.float64)
     weight = np.array(weight, dtype=np.float64)[0]
     assert np.all(intensity > 0)
     np.testing.assert_allclose(weight * density, intensity, rtol=1e-3,
                                atol=RTOL_LOOKUP * intensity.max())
-    np.testing.assert_allclose(weight.mean(), photometry.flux / KM, rtol=RTOL_WEIGHT_MEAN)
+    np.testing.assert_allclose(weight.mean(), photometry.flux * WATTS_PER_CD, rtol=RTOL_WEIGHT_MEAN)
 
 
 # -- photometric scale ------------------------------------------------------------------
@@ -365,7 +368,7 @@ def emitted_flux(light) -> float:
     """K_m times the emitted radiant intensity integrated over the sphere (lm, RGB
     variants with a white spectrum): midpoint quadrature of eval_direction."""
     directions, weights = checks.sphere_quadrature(64, 128)
-    return float(KM * (weights @ checks.eval_intensity(light, directions)[:, 1]))
+    return float((weights @ checks.eval_intensity(light, directions)[:, 1]) / WATTS_PER_CD)
 
 
 def test_luminous_flux_and_scale(variant_rgb, tmp_path):
@@ -386,7 +389,7 @@ def test_luminous_flux_and_scale(variant_rgb, tmp_path):
     scaled = mi.load_dict({**base, "luminous_flux": 1500.0, "scale": 0.4})
     assert emitted_flux(scaled) == pytest.approx(600.0, rel=RTOL_FLUX)
     axis = np.array([[0.0, 0.0, 1.0]])
-    on_axis = checks.eval_intensity(rescaled, axis)[0, 1] * KM
+    on_axis = checks.eval_intensity(rescaled, axis)[0, 1] / WATTS_PER_CD
     assert on_axis == pytest.approx(i0 * 1500.0 / read(path).flux, rel=1e-5)
 
 
@@ -414,7 +417,7 @@ def test_traverse_scale_and_spectrum(variant_rgb, tmp_path):
     it.p = mi.Point3f(0, 0, 2)
     _, value = light.sample_direction(it, mi.Point2f(0.5))
     dr.backward(value[1])
-    assert dr.grad(params["scale"])[0] == pytest.approx(1000.0 / (4 * np.pi) / KM / 4,
+    assert dr.grad(params["scale"])[0] == pytest.approx(1000.0 / (4 * np.pi) * WATTS_PER_CD / 4,
                                                         rel=1e-4)
     with pytest.raises(ValueError, match="'scale'"):
         params["scale"] = -1.0
@@ -460,6 +463,7 @@ def test_bad_files_fail_at_load_with_one_line(variant_rgb, tmp_path):
     """A truncated file, a missing file and misused parameters fail when the scene loads,
     with one line that names the file (and the field) or the parameter."""
     import mitsuba as mi
+
     from spectrace.errors import UserError
     from spectrace.scene import load_scene
 

@@ -42,13 +42,11 @@ RHO_SPHERE = 0.5
 
 
 def v_integral() -> float:
-    """integral V(lambda) dlambda (nm) over 360-830 nm (spectral variants; 1 elsewhere:
-    the Y of a grey value is the value), from colour-science."""
+    """integral V(lambda) dlambda (nm) over 360-830 nm, from colour-science: the
+    photometric integral of the flat spectrum 1 in spectral variants and of the grey 1 in
+    RGB and mono variants (a colour stands for the spectra of the same film Y)."""
     import colour
-    import mitsuba as mi
 
-    if not mi.is_spectral:
-        return 1.0
     V = colour.colorimetry.SDS_LEFS_PHOTOPIC["CIE 1924 Photopic Standard Observer"]
     return float(np.sum(V[np.arange(360.0, 831.0)]))
 

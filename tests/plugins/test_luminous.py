@@ -99,8 +99,9 @@ def test_luminous_efficacy_matches_colour_science(variant_spectral):
 
 
 def test_rgb_watts_per_lumen_uses_luminance(variant_rgb):
-    """RGB variants: 1 lm of colour c is c / (683 Y(c)) W, Y the sRGB luminance row of
-    colour-science's sRGB RGB-to-XYZ matrix."""
+    """RGB variants: 1 lm of colour c is c / (683 Y(c) integral V) W, Y the sRGB luminance
+    row of colour-science's sRGB RGB-to-XYZ matrix and integral V dlambda colour-science's
+    (a colour stands for the spectra whose film Y is its Y)."""
     import colour
     import mitsuba as mi
     from spectrace.plugins.emitters import luminous
@@ -108,7 +109,7 @@ def test_rgb_watts_per_lumen_uses_luminance(variant_rgb):
     rgb = np.array([0.9, 0.4, 0.1])
     Y = colour.models.RGB_COLOURSPACE_sRGB.matrix_RGB_to_XYZ[1] @ rgb
     texture = mi.load_dict({"type": "rgb", "value": rgb.tolist()})
-    np.testing.assert_allclose(luminous.watts_per_lumen(texture, "test"), 1.0 / (683.0 * Y),
+    np.testing.assert_allclose(luminous.watts_per_lumen(texture, "test"), 1.0 / (683.0 * Y * checks.CIE_Y_INTEGRAL),
                                rtol=RTOL_LUX_RGB)
 
 
@@ -158,6 +159,21 @@ def test_rgb_and_spectral_variants_give_the_same_lux():
 
     light = {"type": "pointlight", "position": [0.0, HEIGHT, 0.0], "luminous_intensity": 100.0,
              "spectrum": tabulated()}
+    lux = {}
+    for variant in ("llvm_ad_rgb", "llvm_ad_spectral"):
+        spectrace.set_variant(variant)
+        lux[variant] = checks.lux_at(light, POINTS[1], LUX_SPP)
+    np.testing.assert_allclose(lux["llvm_ad_spectral"], lux["llvm_ad_rgb"],
+                               rtol=RTOL_LUX_SPECTRAL)
+
+
+def test_radiant_lights_give_the_same_image_in_rgb_and_spectral_variants():
+    """A colour stands for the spectra of the same film Y: a light of radiant intensity 1
+    (the flat spectrum 1 W/sr/nm in spectral variants, white 1 in RGB) gives the same
+    image, hence the same lux, in llvm_ad_rgb and llvm_ad_spectral."""
+    import spectrace
+
+    light = {"type": "pointlight", "position": [0.0, HEIGHT, 0.0], "intensity": 1.0}
     lux = {}
     for variant in ("llvm_ad_rgb", "llvm_ad_spectral"):
         spectrace.set_variant(variant)

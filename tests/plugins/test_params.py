@@ -12,7 +12,6 @@ import math
 
 import mitsuba as mi
 import pytest
-
 from spectrace.plugins import params
 
 PLUGIN = "probe"
