@@ -137,18 +137,6 @@ def parse_range(text: str, log: bool = False) -> tuple[float, float]:
     return low, high
 
 
-#: Seeds are stored as 32-bit EXR header integers (and Mitsuba's ``seed`` property is one).
-SEED_RANGE = (-(2**31), 2**31 - 1)
-
-
-def check_seed(seed: int, option: str = "--seed") -> int:
-    """UserError unless ``seed`` fits the 32-bit range :data:`SEED_RANGE`."""
-    low, high = SEED_RANGE
-    if not low <= int(seed) <= high:
-        raise UserError(f"{option} {seed}: must be between {low} and {high}")
-    return int(seed)
-
-
 def plane_string(plane: Plane) -> str:
     """The plane written as on the command line."""
     return " ".join(",".join(f"{c:g}" for c in v) for v in plane)

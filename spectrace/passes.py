@@ -85,11 +85,14 @@ def check_sample_counts(spp: int | None, spp_per_pass: int) -> None:
         raise UserError(f"--spp-per-pass must be a positive integer (got {spp_per_pass})")
 
 
-def check_seed(seed: int) -> None:
-    """UserError unless ``seed`` fits the EXR header's 32-bit integer (:data:`SEED_RANGE`)."""
-    if not SEED_RANGE[0] <= seed <= SEED_RANGE[1]:
-        raise UserError(f"--seed must be between {SEED_RANGE[0]} and {SEED_RANGE[1]} "
-                        f"(got {seed}): it is stored in the EXR header as a 32-bit integer")
+def check_seed(seed: int, option: str = "--seed") -> int:
+    """``seed`` as an int; UserError naming ``option`` unless it fits the EXR header's
+    32-bit integer (:data:`SEED_RANGE`)."""
+    low, high = SEED_RANGE
+    if not low <= int(seed) <= high:
+        raise UserError(f"{option} must be between {low} and {high} (got {seed}): it is "
+                        "stored in the EXR header as a 32-bit integer")
+    return int(seed)
 
 
 def scene_spp(scene, sensor: int = 0) -> int:

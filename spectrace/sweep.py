@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from spectrace.errors import UserError
+from spectrace.passes import check_seed
 
 RESULTS = "results.csv"
 SHEET = "sheet.png"
@@ -45,8 +46,6 @@ _PAD = 4
 #: Longest file name stem (characters, all ASCII) of an image; longer ones are shortened
 #: with a hash of the combination (".spectral.exr" and temporary prefixes must still fit).
 MAX_STEM = 200
-#: Seeds are stored as 32-bit EXR header integers (and Mitsuba's ``seed`` property is one).
-SEED_RANGE = (-(2**31), 2**31 - 1)
 _UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
 
 
@@ -174,9 +173,7 @@ class Grid:
         _check_variants(variants)
         seeds = [int(s) for s in _as_list(seeds, 0)]
         for seed in seeds:
-            if not SEED_RANGE[0] <= seed <= SEED_RANGE[1]:
-                raise UserError(f"--seeds {seed}: a seed must be between {SEED_RANGE[0]} "
-                                f"and {SEED_RANGE[1]}")
+            check_seed(seed, "--seeds")
         return cls(scene, grid_params, list(dict.fromkeys(variants)),
                    list(dict.fromkeys(seeds)), spp, spp_per_pass)
 

@@ -2,5 +2,21 @@
 
 Each module has ``add_arguments(parser)`` and ``run(args) -> int``: it parses, calls the
 library (``spectrace.*``, ``spectrace.spectral``, ``spectrace.photometry``) and prints.
-Nothing else imports a command.
+Nothing else imports a command. This package's ``__init__`` holds what commands share.
 """
+
+
+def add_render_options(parser) -> None:
+    """The options of every command that renders a scene: ``--variant``, ``--spp``,
+    ``--spp-per-pass``, ``--seed`` and ``-D name=value``."""
+    from spectrace import DEFAULT_VARIANT
+    from spectrace.passes import DEFAULT_SPP_PER_PASS
+
+    parser.add_argument("--variant", default=DEFAULT_VARIANT,
+                        help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
+    parser.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
+    parser.add_argument("--spp-per-pass", type=int, default=DEFAULT_SPP_PER_PASS,
+                        help=f"samples per pixel in one pass (default {DEFAULT_SPP_PER_PASS})")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
+                        help="set the scene parameter $NAME (XML <default>), repeatable")

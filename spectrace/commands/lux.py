@@ -8,9 +8,9 @@ import re
 import sys
 from pathlib import Path
 
-from spectrace import DEFAULT_VARIANT
+from spectrace.commands import add_render_options
 from spectrace.errors import UserError
-from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts, scene_spp
+from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -18,14 +18,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "integrator replaced by illuminance)")
     parser.add_argument("-o", "--output", help="output EXR, one channel Y in lux (default: "
                         "out/<scene>.lux.exr); the false-colour PNG is written beside it")
-    parser.add_argument("--variant", default=DEFAULT_VARIANT,
-                        help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
-    parser.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
-    parser.add_argument("--spp-per-pass", type=int, default=DEFAULT_SPP_PER_PASS,
-                        help=f"samples per pixel in one pass (default {DEFAULT_SPP_PER_PASS})")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
-                        help="set the scene parameter $NAME (XML <default>), repeatable")
+    add_render_options(parser)
     parser.add_argument("--max-depth", type=int, default=1, metavar="K",
                         help="1: direct light (default); K > 1 adds light reflected up to "
                         "K - 1 times; -1: no limit")
@@ -53,7 +46,7 @@ def run(args) -> int:
 
     scene_path = Path(args.scene)
     check_sample_counts(args.spp, args.spp_per_pass)  # before loading anything
-    lux.check_seed(args.seed, "--seed")
+    check_seed(args.seed)
     if args.max_depth == 0 or args.max_depth < -1:
         raise UserError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
     plane = None if args.plane is None else lux.parse_plane(args.plane)

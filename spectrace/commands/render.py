@@ -14,9 +14,9 @@ import os
 import sys
 from pathlib import Path
 
-from spectrace import DEFAULT_VARIANT
+from spectrace.commands import add_render_options
 from spectrace.errors import UserError
-from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts, check_seed, scene_spp
+from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
 FILMS = ("rgb", "spectral")
 DEFAULT_BANDS = 16
@@ -28,14 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", help="output EXR (default: out/<scene>.exr), or a "
                         "folder (FOLDER/) for <scene>.exr there, which several scenes need; "
                         "an sRGB PNG is written beside each EXR")
-    parser.add_argument("--variant", default=DEFAULT_VARIANT,
-                        help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
-    parser.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
-    parser.add_argument("--spp-per-pass", type=int, default=DEFAULT_SPP_PER_PASS,
-                        help=f"samples per pixel in one pass (default {DEFAULT_SPP_PER_PASS})")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
-                        help="set the scene parameter $NAME (XML <default>), repeatable")
+    add_render_options(parser)
     parser.add_argument("--film", choices=FILMS, default="rgb",
                         help="rgb: the scene's film; spectral: N bands, also OUT.spectral.exr")
     parser.add_argument("--bands", type=int, default=None,
