@@ -81,7 +81,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         parser = build_parser(only=_command_in(argv))
         args = parser.parse_args(argv)
-        return int(args._module.run(args) or 0)
+        code = int(args._module.run(args) or 0)
+        sys.stdout.flush()  # a closed pipe shows here, not in Python's flush at exit
+        return code
     except UserError as e:
         print(f"error: {e}", file=sys.stderr)
         return EXIT_USAGE

@@ -13,8 +13,6 @@ from __future__ import annotations
 import argparse
 import ast
 import importlib.util
-import os
-import sys
 
 from spectrace.errors import UserError
 
@@ -93,24 +91,14 @@ def listing() -> str:
             + "\nand spectrace help COMMAND the options of a command.")
 
 
-def print_lines(lines) -> None:
-    """Print to stdout; a reader that stops early (``| head``) ends the output quietly."""
-    try:
-        for line in lines:
-            print(line)
-        sys.stdout.flush()
-    except BrokenPipeError:  # no traceback, and none at exit when Python flushes again
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-
-
 def run(args) -> int:
     if args.name is None:
-        print_lines([listing()])
+        print(listing())
         return 0
     from spectrace.cli import COMMANDS, build_parser
 
     if args.name in COMMANDS and args.name not in pages():
         build_parser(only=args.name).parse_args([args.name, "--help"])
         return 0
-    print_lines([page(args.name)])
+    print(page(args.name))
     return 0

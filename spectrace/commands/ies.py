@@ -41,9 +41,7 @@ def run(args) -> int:
     if args.plot:
         plot_polar(args.plot, ph)
         lines.append(f"{'plot':<11}{args.plot}")
-    from spectrace.commands.help import print_lines
-
-    print_lines(lines)
+    print("\n".join(lines))
     return 0
 
 
