@@ -5,6 +5,32 @@ library (``spectrace.*``, ``spectrace.spectral``, ``spectrace.photometry``) and 
 Nothing else imports a command. This package's ``__init__`` holds what commands share.
 """
 
+import contextlib
+import sys
+
+
+@contextlib.contextmanager
+def progress_bar(total: int, unit: str, quiet: bool):
+    """Yield ``update(done, total=None)`` for a transient progress bar over ``total``
+    ``unit`` on stderr; a no-op (and rich not imported) with ``quiet`` or when stderr is
+    not a terminal."""
+    if quiet or not sys.stderr.isatty():
+        yield lambda done, total=None: None
+        return
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    with Progress("[progress.description]{task.description}", BarColumn(),
+                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                  transient=True) as progress:
+        task = progress.add_task(unit, total=total)
+        yield lambda done, total=None: progress.update(task, completed=done)
+
 
 def add_render_options(parser) -> None:
     """The options of every command that renders a scene: ``--variant``, ``--spp``,

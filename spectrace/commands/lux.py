@@ -8,7 +8,7 @@ import re
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options
+from spectrace.commands import add_render_options, progress_bar
 from spectrace.errors import UserError
 from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
@@ -103,21 +103,8 @@ def _load(scene_path, params, root):
 
 
 def _render_with_progress(scene, spp, plane, args):
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
     from spectrace.lux import render_lux
 
-    quiet = args.quiet or not sys.stderr.isatty()
-    with Progress("[progress.description]{task.description}", BarColumn(),
-                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
-                  disable=quiet, transient=True) as progress:
-        task = progress.add_task("spp", total=spp)
+    with progress_bar(spp, "spp", args.quiet) as on_pass:
         return render_lux(scene, spp, seed=args.seed, plane=plane, max_depth=args.max_depth,
-                          spp_per_pass=args.spp_per_pass,
-                          on_pass=lambda done, total: progress.update(task, completed=done))
+                          spp_per_pass=args.spp_per_pass, on_pass=on_pass)

@@ -14,7 +14,7 @@ import os
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options
+from spectrace.commands import add_render_options, progress_bar
 from spectrace.errors import UserError
 from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
@@ -164,7 +164,7 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> 
 def _render_with_progress(scene, spp, args, client=None, scene_path=None, params=None):
     from spectrace.passes import render_passes
 
-    with _progress(spp, show=not args.quiet and sys.stderr.isatty()) as on_pass:
+    with progress_bar(spp, "spp", args.quiet) as on_pass:
         if client is not None:
             from spectrace.cluster import SceneSpec
             from spectrace.passes import render_passes_distributed
@@ -175,32 +175,6 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
                                              spp_per_pass=args.spp_per_pass, on_pass=on_pass)
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
                              on_pass=on_pass)
-
-
-@contextlib.contextmanager
-def _progress(spp: int, show: bool):
-    """Yield the ``on_pass(done, total)`` callback of a progress bar over ``spp`` samples;
-    rich is imported only when the bar is shown (not -q, stderr a terminal)."""
-    if not show:
-        yield None
-        return
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
-    with Progress("[progress.description]{task.description}", BarColumn(),
-                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
-                  transient=True) as progress:
-        task = progress.add_task("spp", total=spp)
-
-        def on_pass(done, total):
-            progress.update(task, completed=done)
-
-        yield on_pass
 
 
 def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:

@@ -11,6 +11,7 @@ a re-run skips them).
 from __future__ import annotations
 
 import argparse
+import itertools
 import sys
 from pathlib import Path
 
@@ -92,18 +93,9 @@ def run(args) -> int:
 
 
 def _run_with_progress(sweep, grid, client, outdir, outcomes, quiet):
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
+    from spectrace.commands import progress_bar
 
-    quiet = quiet or not sys.stderr.isatty()
-    with Progress("[progress.description]{task.description}", BarColumn(),
-                  MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
-                  disable=quiet, transient=True) as progress:
-        task = progress.add_task("images", total=len(outcomes))
+    finished = itertools.count(1)
+    with progress_bar(len(outcomes), "images", quiet) as update:
         return sweep.run(grid, client, outdir, keep_images=False, outcomes=outcomes,
-                         on_image=lambda o: progress.advance(task))
+                         on_image=lambda o: update(next(finished)))
