@@ -38,8 +38,6 @@ from spectrace.passes import check_seed
 
 RESULTS = "results.csv"
 SHEET = "sheet.png"
-#: Rec. 709 / sRGB luminance weights of linear R, G, B.
-LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
 #: Size in pixels of an image's cell in the contact sheet (larger images are shrunk).
 SHEET_CELL = 160
 _PAD = 4
@@ -261,7 +259,9 @@ class Outcome:
 
 def mean_luminance(rgb: np.ndarray) -> float:
     """Mean of Y = 0.2126 R + 0.7152 G + 0.0722 B over the image (linear sRGB)."""
-    return float(np.mean(np.asarray(rgb[..., :3], np.float64) @ np.asarray(LUMINANCE_WEIGHTS)))
+    from spectrace.comparison import LUMINANCE_WEIGHTS
+
+    return float(np.mean(np.asarray(rgb[..., :3], np.float64) @ LUMINANCE_WEIGHTS))
 
 
 def _finished(outdir: Path, grid: Grid, outcome: Outcome) -> bool:
