@@ -13,12 +13,11 @@ array (:attr:`RenderResult.image`), so the command line starts as fast as ``mits
 
 from __future__ import annotations
 
-import signal
-import threading
 import time
 from collections.abc import Callable
 
 from spectrace.errors import UserError
+from spectrace.signals import defer_sigint
 
 DEFAULT_SPP_PER_PASS = 16
 _POLL_S = 0.02  # how often the distributed loop looks for finished passes
@@ -107,27 +106,6 @@ def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
     return [spp_per_pass] * full + ([rest] if rest else [])
 
 
-class _StopOnSigint:
-    """Context manager: SIGINT sets a flag instead of raising, on the main thread only."""
-
-    def __init__(self):
-        self.requested = False
-        self._previous = None
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            self._previous = signal.signal(signal.SIGINT, self._handle)
-        return self
-
-    def _handle(self, signum, frame):
-        self.requested = True
-
-    def __exit__(self, *exc):
-        if self._previous is not None:
-            signal.signal(signal.SIGINT, self._previous)
-        return False
-
-
 def render_passes(
     scene,
     spp: int,
@@ -152,7 +130,7 @@ def render_passes(
     shape = None
     done = 0
     start = time.perf_counter()
-    with _StopOnSigint() as stop:
+    with defer_sigint(stop_only=True) as stop:
         for index, n in enumerate(sizes):
             img = mi.render(
                 scene, spp=n, seed=pass_seed(seed, index), sensor=sensor, integrator=integrator
@@ -166,9 +144,9 @@ def render_passes(
             done += n
             if on_pass is not None:
                 on_pass(done, spp)
-            if stop.requested:
+            if stop.seen:
                 break
-        interrupted = stop.requested and done < spp
+        interrupted = stop.seen and done < spp
     mean = mi.Float(accum / dr.opaque(mi.Float64, done))
     bad = ~dr.isfinite(mean)
     mean = dr.select(bad, 0.0, mean)
@@ -228,8 +206,8 @@ def render_passes_distributed(
     next_index = 0
     done = 0
     start = time.perf_counter()
-    with _StopOnSigint() as stop:
-        while (pending or next_index < len(sizes)) and not stop.requested:
+    with defer_sigint(stop_only=True) as stop:
+        while (pending or next_index < len(sizes)) and not stop.seen:
             while next_index < len(sizes) and len(pending) < window:
                 future = client.submit(render_pass, spec, seed, next_index, sizes[next_index],
                                        pure=False, retries=RETRIES)
@@ -247,7 +225,7 @@ def render_passes_distributed(
                     on_pass(done, spp)
         if pending:
             client.cancel(list(pending))
-        interrupted = stop.requested and done < spp
+        interrupted = stop.seen and done < spp
     seconds = time.perf_counter() - start
     if not images:  # stopped before the first pass finished: nothing to average
         return RenderResult(np.zeros((0, 0, 3), np.float32), 0, 0, seconds, True)

@@ -15,9 +15,14 @@ class defer_sigint:
     """Context manager that defers a SIGINT (Ctrl-C) on the main thread: it is noted
     (``seen``) and raised as KeyboardInterrupt when the block ends, since Mitsuba builds
     plugins on its own threads, where a KeyboardInterrupt would only become a plugin
-    error. Nothing where SIGINT is ignored."""
+    error. Nothing where SIGINT is ignored.
 
-    def __init__(self):
+    ``stop_only=True`` is the pass loop's form: the block reads ``seen`` and stops by
+    itself (after the current pass), so nothing is raised at the end, and SIGINT is caught
+    even where it was ignored."""
+
+    def __init__(self, stop_only: bool = False):
+        self.stop_only = stop_only
         self.seen = False
         self._previous = None
 
@@ -27,7 +32,7 @@ class defer_sigint:
 
         if threading.current_thread() is threading.main_thread():
             previous = signal.getsignal(signal.SIGINT)
-            if previous is not signal.SIG_IGN:
+            if self.stop_only or previous is not signal.SIG_IGN:
                 self._previous = previous
                 signal.signal(signal.SIGINT, self._handle)
         return self
@@ -40,6 +45,6 @@ class defer_sigint:
             import signal
 
             signal.signal(signal.SIGINT, self._previous)
-        if self.seen and exc_type is None:
+        if self.seen and exc_type is None and not self.stop_only:
             raise KeyboardInterrupt
         return False

@@ -39,6 +39,22 @@ def test_ignored_sigint_stays_ignored():
         signal.signal(signal.SIGINT, previous)
 
 
+def test_stop_only_notes_sigint_without_raising_even_where_ignored():
+    """The pass loop's form: a SIGINT is noted for the loop to stop after its pass, nothing
+    is raised at the end, and it is caught even where SIGINT was ignored; the previous
+    handler is back."""
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with defer_sigint(stop_only=True) as stop:
+            signal.raise_signal(signal.SIGINT)
+        assert stop.seen and signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    with defer_sigint(stop_only=True) as stop:
+        signal.raise_signal(signal.SIGINT)
+    assert stop.seen and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 #: A child that sends itself SIGINT when Dr.Jit starts being imported, then runs the
 #: command line.
 CHILD = """
