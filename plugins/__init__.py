@@ -2,7 +2,9 @@
 
 Each plugin lives in its own module, named after its XML type, and the module ends by
 registering it with Mitsuba for the active variant. :func:`register` (re)executes the
-modules in order, so that the classes are rebuilt for the variant that is active now.
+modules in order, so that the classes are rebuilt for the variant that is active now: all
+of them, or only those of the plugins a scene names (what the command line does, see
+:mod:`spectrace.registry`).
 """
 
 from __future__ import annotations
@@ -25,28 +27,44 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "integrators.local",
     "integrators.illuminance",
 )
+#: The modules that register no plugin of their own: the shared helpers, executed before any
+#: plugin module (the classes they define are rebuilt for the variant like the plugins).
+HELPER_MODULES: frozenset[str] = frozenset(
+    {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta", "integrators.fog"}
+)
+#: XML type name -> the module that registers it (a plugin module is named after its type).
+PLUGINS: dict[str, str] = {
+    module.rpartition(".")[2]: module for module in PLUGIN_MODULES if module not in HELPER_MODULES
+}
 
-_registered_for: str | None = None
+#: module -> the variant it was last executed for.
+_executed: dict[str, str] = {}
 
 
-def register(force: bool = False) -> None:
-    """Register every spectrace plugin for the active Mitsuba variant.
+def register(names=None, force: bool = False) -> list[str]:
+    """Register spectrace's plugins for the active Mitsuba variant: every plugin, or those
+    among ``names`` (XML type names; other names are ignored), with the helpers they use.
 
-    Does nothing when the plugins are already registered for this variant, unless
-    ``force`` is true.
+    A plugin already registered for this variant is left as it is, unless ``force`` is true.
+    Returns the names of the plugins this call registered.
     """
-    global _registered_for
     import mitsuba as mi
 
     variant = mi.variant()
     if variant is None:
         raise RuntimeError("set a Mitsuba variant first (spectrace.set_variant)")
-    if variant == _registered_for and not force:
-        return
-    for name in PLUGIN_MODULES:
-        full = f"{__name__}.{name}"
-        if full in sys.modules:
-            importlib.reload(sys.modules[full])
-        else:
-            importlib.import_module(full)
-    _registered_for = variant
+    wanted = set(PLUGINS) if names is None else set(names) & set(PLUGINS)
+    todo = [PLUGINS[name] for name in wanted
+            if force or _executed.get(PLUGINS[name]) != variant]
+    if not todo:
+        return []
+    for module in PLUGIN_MODULES:  # in order: the helpers before the plugins using them
+        if module in todo or (module in HELPER_MODULES
+                              and (force or _executed.get(module) != variant)):
+            full = f"{__name__}.{module}"
+            if full in sys.modules:
+                importlib.reload(sys.modules[full])
+            else:
+                importlib.import_module(full)
+            _executed[module] = variant
+    return sorted(name for name in wanted if PLUGINS[name] in todo)

@@ -18,13 +18,18 @@ __all__ = ["DEFAULT_VARIANT", "RenderResult", "UserError", "render", "set_varian
 from spectrace.errors import UserError  # noqa: E402
 
 
-def set_variant(name: str = DEFAULT_VARIANT) -> None:
+def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
     """Set the Mitsuba variant ``name`` and register every spectrace plugin for it.
 
     Before mitsuba is first imported, points Dr.Jit at a libLLVM >= 16 (see
     :mod:`spectrace.llvm`). Calling it again switches variants and re-registers the
     plugins, since a plugin class made under one variant does not work under another.
     Raises :class:`UserError` for an unknown variant or a missing libLLVM.
+
+    ``lazy=True`` (the command line's choice) registers nothing yet, not even Mitsuba's
+    own Python integrators: :func:`spectrace.scene.load_scene` registers the plugins a
+    scene names as it loads it (:mod:`spectrace.registry`), so a scene of built-in plugins
+    starts as fast as with Mitsuba's ``mitsuba`` executable.
     """
     if "mitsuba" not in sys.modules or name.startswith("llvm"):
         from spectrace.llvm import configure_libllvm
@@ -37,10 +42,10 @@ def set_variant(name: str = DEFAULT_VARIANT) -> None:
     from spectrace.signals import defer_sigint
 
     with defer_sigint():  # Ctrl-C inside Mitsuba's import is raised after it
-        _set_variant(name)
+        _set_variant(name, lazy)
 
 
-def _set_variant(name: str) -> None:
+def _set_variant(name: str, lazy: bool) -> None:
     import mitsuba as mi
 
     if name not in mi.variants():
@@ -51,16 +56,17 @@ def _set_variant(name: str) -> None:
             f"variant {name!r} is not supported: spectrace's plugins are vectorized Dr.Jit "
             f"code for the JIT variants; use one of {', '.join(supported)}"
         )
+    from spectrace import registry
+
     if mi.variant() != name:
         try:
-            mi.set_variant(name)
+            registry.set_variant(name, lazy)
         except (ImportError, RuntimeError) as e:  # e.g. a CUDA variant without a GPU
             first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
             raise UserError(f"variant {name!r} cannot run on this machine: {first}") from None
     _plain_log_when_piped(mi)
-    from spectrace import plugins
-
-    plugins.register()
+    if not lazy:
+        registry.require_all()
 
 
 _plain_appender = None

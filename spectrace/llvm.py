@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import glob
 import os
-import platform
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -93,6 +92,8 @@ def find_libllvm(search_dirs=SEARCH_DIRS) -> LibLLVM | None:
 
 def install_hint() -> str:
     """The command that installs a good libLLVM on this system."""
+    import platform
+
     if platform.system() == "Darwin":
         return "brew install llvm"
     prefix = "" if hasattr(os, "geteuid") and os.geteuid() == 0 else "sudo "

@@ -14,6 +14,7 @@ from pathlib import Path
 from spectrace.errors import UserError
 from spectrace.signals import defer_sigint
 
+_PARAMETER = re.compile(r"\$(\w+)")
 _CPP_PREFIX = re.compile(r"\[[\w./-]+\.(?:cpp|h|py):\d+\]\s*")
 # A Python plugin's exception arrives with its traceback: keep only the final message.
 _PY_TRACEBACK = re.compile(r"Traceback \(most recent call last\):.*?^\w+(?:Error|Exception): ",
@@ -68,15 +69,28 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     if tree.tag != "scene":
         raise UserError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
     params = {k: str(v) for k, v in (params or {}).items()}
+    from spectrace import registry
+
+    registry.require(plugin_names(tree, params))  # what a lazily set variant still lacks
     resolver = mi.file_resolver()
     folder = str(path.resolve().parent)
     try:
         resolver.prepend(folder)
-        with defer_sigint() as sigint:
-            if root is None:
-                scene = mi.load_file(str(path), **params)
-            else:
-                scene = mi.load_string(ET.tostring(tree, encoding="unicode"), **params)
+        while True:
+            try:
+                with defer_sigint() as sigint:
+                    if root is None:
+                        scene = mi.load_file(str(path), **params)
+                    else:
+                        scene = mi.load_string(ET.tostring(tree, encoding="unicode"),
+                                               **params)
+                break
+            except (RuntimeError, ValueError, TypeError) as e:
+                # A plugin named where plugin_names does not look (an <include>d file):
+                # registered now, then the scene is loaded again.
+                missing = registry.missing_plugin(str(e))
+                if sigint.seen or missing is None or not registry.require({missing}):
+                    raise
     except (RuntimeError, ValueError, TypeError) as e:
         if sigint.seen or "KeyboardInterrupt" in str(e):
             # Ctrl-C inside a Python plugin's constructor comes back as a plugin error
@@ -102,6 +116,15 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
                 f"{'' if full == f'{width}x{height}' else f', full size {full}'})"
             )
     return scene
+
+
+def plugin_names(tree: ET.Element, params: dict[str, str] | None = None) -> set[str]:
+    """The plugin types the tree names (its ``type`` attributes), each ``$name`` in them
+    replaced by its value from ``params`` or the scene's ``<default>``. Files the scene
+    ``<include>``s are not read."""
+    values = {**scene_defaults(tree), **(params or {})}
+    return {_PARAMETER.sub(lambda m: values.get(m.group(1), m.group(0)), kind)
+            for element in tree.iter() if (kind := element.get("type"))}
 
 
 def scene_defaults(tree: ET.Element) -> dict[str, str]:

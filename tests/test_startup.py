@@ -103,6 +103,20 @@ def test_quiet_render_imports_no_numpy(quiet_render, variant):
     assert "numpy" not in modules, "numpy imported: a module imports it at its top"
 
 
+@pytest.mark.parametrize("variant", RENDER_VARIANTS)
+def test_render_registers_only_the_plugins_the_scene_names(quiet_render, variant):
+    """``spectrace render`` sets the variant lazily: of spectrace's plugins only those the
+    scene names are executed (the showcase has no ``ieslight``, ``local`` or
+    ``illuminance``), and none of Mitsuba's Python integrators (it renders with ``path``),
+    whose source transformation costs more than a small render."""
+    modules, _ = quiet_render(variant)
+    assert {"spectrace.plugins.bsdfs.phong", "spectrace.plugins.emitters.spotlight"} <= modules
+    unnamed = {"spectrace.plugins.emitters.ieslight", "spectrace.plugins.integrators.local",
+               "spectrace.plugins.integrators.illuminance"}
+    assert not modules & unnamed, sorted(modules & unnamed)
+    assert not any(m.startswith("mitsuba.python.ad.integrators.") for m in modules)
+
+
 def test_import_spectrace_imports_no_numpy():
     """``import spectrace`` (and ``spectrace.render`` looked up) loads neither numpy nor
     mitsuba: ``spectrace.render`` and ``RenderResult`` come from the pass loop on first use."""

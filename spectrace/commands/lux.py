@@ -63,7 +63,7 @@ def run(args) -> int:
 
     import spectrace
 
-    spectrace.set_variant(args.variant)
+    spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
     scene = _load(scene_path, params, root)
     if plane is not None:  # before check_writable makes the output's folder
         lux.check_plane_visible(scene, plane)
