@@ -305,7 +305,8 @@ def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> np.ndarray:
     return np.asarray(img, dtype=np.float32)
 
 
-def render_image(spec: SceneSpec, spp: int | None, seed: int, spp_per_pass: int) -> dict:
+def render_image(spec: SceneSpec, spp: int | None, seed: int,
+                 spp_per_pass: int | None) -> dict:
     """Task: one whole image, as ``spectrace render`` makes it (the same pass loop).
 
     Returns ``{"image": float32 (H, W, 3) linear sRGB (a mono film as grey), "spp",

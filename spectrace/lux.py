@@ -31,7 +31,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from spectrace.errors import UserError
-from spectrace.passes import DEFAULT_SPP_PER_PASS
 
 __all__ = ["LuxMap", "MIN_MEASURED", "PLANE_FORMAT", "lux_scene_tree", "lux_statistics",
            "parse_plane", "parse_range", "plot_lux", "render_lux", "write_lux_exr"]
@@ -196,9 +195,12 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
 
 def illuminance_integrator(plane: Plane | None = None, max_depth: int | None = None,
                            shadows: bool = True):
-    """An ``illuminance`` integrator (the active variant's plugins must be registered)."""
+    """An ``illuminance`` integrator, registered for the active variant if it is not yet."""
     import mitsuba as mi
 
+    from spectrace import registry
+
+    registry.require({"illuminance"})
     spec = {"type": "illuminance", "shadows": bool(shadows)}
     if max_depth is not None:
         spec["max_depth"] = int(max_depth)
@@ -254,7 +256,7 @@ def lux_statistics(lux: np.ndarray, valid: np.ndarray) -> tuple[float, float, fl
 
 
 def render_lux(scene, spp: int, seed: int = 0, plane: Plane | None = None,
-               max_depth: int | None = None, *, spp_per_pass: int = DEFAULT_SPP_PER_PASS,
+               max_depth: int | None = None, *, spp_per_pass: int | None = None,
                shadows: bool = True, sensor=0,
                on_pass: Callable[[int, int], None] | None = None) -> LuxMap:
     """The illuminance map of ``scene``'s sensor (see the module docstring).

@@ -138,7 +138,7 @@ class Grid:
     variants: list[str] = field(default_factory=lambda: ["llvm_ad_spectral"])
     seeds: list[int] = field(default_factory=lambda: [0])
     spp: int | None = None  # None: each scene's own sample count
-    spp_per_pass: int = 16
+    spp_per_pass: int | None = None  # None: the pass loop's default for each image
 
     @classmethod
     def make(cls, scene, params: Mapping[str, Sequence | str | float], variants=None,
@@ -149,11 +149,10 @@ class Grid:
         of the scene; ``variants`` and ``seeds`` one value or a sequence.
         """
         import spectrace
-        from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts
+        from spectrace.passes import check_sample_counts
         from spectrace.scene import read_scene_xml, scene_defaults
 
         scene = Path(scene)
-        spp_per_pass = spp_per_pass or DEFAULT_SPP_PER_PASS
         check_sample_counts(spp, spp_per_pass)
         root = read_scene_xml(scene)
         defaults = scene_defaults(root)

@@ -9,7 +9,14 @@ import pytest
 
 import spectrace
 from spectrace.errors import UserError
-from spectrace.passes import pass_seed, pass_sizes, render_passes
+from spectrace.passes import (
+    MAX_SPP_PER_PASS,
+    PASS_SAMPLES,
+    default_spp_per_pass,
+    pass_seed,
+    pass_sizes,
+    render_passes,
+)
 
 
 def small_scene():
@@ -35,6 +42,30 @@ def test_pass_sizes_cover_spp_exactly():
         pass_sizes(0, 4)
     with pytest.raises(UserError, match="spp-per-pass"):
         pass_sizes(4, 0)
+
+
+@pytest.mark.parametrize("pixels, spp, expected", [
+    (256 * 256, 1024, 64),   # 4 M samples: the cap and the budget meet
+    (512 * 512, 1024, 16),   # the budget: 4 M samples
+    (1920 * 1080, 1024, 1),  # 2 M pixels: one spp per pass (the budget allows 2)
+    (4096 * 4096, 64, 1),    # more pixels than the budget: still 1 spp
+    (32 * 32, 4, 4),         # no more than the render's spp
+    (64 * 64, 1024, 64),     # the cap
+])
+def test_default_pass_size(pixels, spp, expected):
+    """The default pass size: the largest power of 4 up to MAX_SPP_PER_PASS within
+    PASS_SAMPLES samples, at least 1 and at most the render's spp."""
+    k = default_spp_per_pass(pixels, spp)
+    assert k == expected
+    assert k == spp or (k & (k - 1) == 0 and k.bit_length() % 2 == 1)  # a power of 4
+    assert k <= MAX_SPP_PER_PASS and (k == 1 or k * pixels <= PASS_SAMPLES)
+
+
+def test_default_passes_follow_the_film(variant_rgb):
+    """Without spp_per_pass the loop uses the default for the sensor's film (16 x 12 pixels:
+    passes of MAX_SPP_PER_PASS spp)."""
+    result = render_passes(small_scene(), spp=2 * MAX_SPP_PER_PASS + 3, seed=0)
+    assert result.passes == 3 and result.spp == 2 * MAX_SPP_PER_PASS + 3
 
 
 def test_pass_seeds_are_distinct_across_nearby_seeds():

@@ -32,17 +32,21 @@ def progress_bar(total: int, unit: str, quiet: bool):
         yield lambda done, total=None: progress.update(task, completed=done)
 
 
+def add_spp_per_pass(parser) -> None:
+    """``--spp-per-pass K`` (default: :func:`spectrace.passes.default_spp_per_pass`)."""
+    parser.add_argument("--spp-per-pass", type=int, default=None, metavar="K",
+                        help="samples per pixel in one pass (default: the largest power of 4 "
+                        "up to 64 that keeps a pass within about 4 million samples)")
+
+
 def add_render_options(parser) -> None:
     """The options of every command that renders a scene: ``--variant``, ``--spp``,
     ``--spp-per-pass``, ``--seed`` and ``-D name=value``."""
     from spectrace import DEFAULT_VARIANT
-    from spectrace.passes import DEFAULT_SPP_PER_PASS
-
     parser.add_argument("--variant", default=DEFAULT_VARIANT,
                         help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
     parser.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
-    parser.add_argument("--spp-per-pass", type=int, default=DEFAULT_SPP_PER_PASS,
-                        help=f"samples per pixel in one pass (default {DEFAULT_SPP_PER_PASS})")
+    add_spp_per_pass(parser)
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
                         help="set the scene parameter $NAME (XML <default>), repeatable")

@@ -122,9 +122,9 @@ def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
 
 def run(args) -> int:
     from spectrace.images import check_writable
-    from spectrace.passes import DEFAULT_SPP_PER_PASS, check_sample_counts
+    from spectrace.passes import check_sample_counts
 
-    check_sample_counts(args.spp, DEFAULT_SPP_PER_PASS)
+    check_sample_counts(args.spp, None)
     out = Path(args.output)
     if out.suffix.lower() != ".png":
         raise UserError(f"output {out}: must end in .png")

@@ -103,7 +103,7 @@ def run(args) -> int:
     roots = [read_scene_xml(p) for p in scene_paths]
     import spectrace
 
-    spectrace.set_variant(args.variant)
+    spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
     loaded = []  # every scene loads before anything renders: a bad one costs no output
     for scene_path, root in zip(scene_paths, roots, strict=True):
         wavelengths = None
@@ -167,12 +167,13 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
     with progress_bar(spp, "spp", args.quiet) as on_pass:
         if client is not None:
             from spectrace.cluster import SceneSpec
-            from spectrace.passes import render_passes_distributed
+            from spectrace.passes import render_passes_distributed, scene_spp_per_pass
 
             bands = args.bands if args.film == "spectral" else None
             spec = SceneSpec.make(scene_path, params, args.variant, bands)
+            per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
             return render_passes_distributed(client, spec, spp, seed=args.seed,
-                                             spp_per_pass=args.spp_per_pass, on_pass=on_pass)
+                                             spp_per_pass=per_pass, on_pass=on_pass)
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
                              on_pass=on_pass)
 

@@ -16,8 +16,8 @@ import sys
 from pathlib import Path
 
 from spectrace import DEFAULT_VARIANT
+from spectrace.commands import add_spp_per_pass
 from spectrace.errors import UserError
-from spectrace.passes import DEFAULT_SPP_PER_PASS
 
 EXIT_FAILED = 1
 EXIT_INTERRUPTED = 130
@@ -34,8 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         f"(default {DEFAULT_VARIANT})")
     parser.add_argument("--seeds", help="random seeds, comma-separated (default 0)")
     parser.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
-    parser.add_argument("--spp-per-pass", type=int, default=DEFAULT_SPP_PER_PASS,
-                        help=f"samples per pixel in one pass (default {DEFAULT_SPP_PER_PASS})")
+    add_spp_per_pass(parser)
     parser.add_argument("-o", "--output", metavar="OUTDIR",
                         help="output folder (default out/sweep-<scene>)")
     where = parser.add_mutually_exclusive_group()
