@@ -15,7 +15,8 @@ EXR. The scenes use only Mitsuba's built-in plugins (the executable knows no oth
 * ``tiny``: the Cornell box at 32 x 32, 4 spp: next to no rendering, so the ratio is that
   of the start-ups (imports, plugin registration, writing the files).
 
-Each (scene, variant) pair runs once per program to fill the kernel cache, then
+Each (scene, variant) pair runs once per program to fill the kernel cache (and Python's
+bytecode cache: the runs do not inherit ``PYTHONDONTWRITEBYTECODE``), then
 ``--repeats`` rounds alternate the two programs (ABBA order, so drift hits both alike).
 The table gives the medians and the median over rounds of the ratios spectrace / mitsuba
 (aim: wall time within 1.05x, peak memory within 1.3x), and the ratio of the fastest runs
@@ -199,6 +200,10 @@ def main() -> int:
 
     env = dict(os.environ)
     configure_libllvm(env)  # both programs get the same libLLVM (DRJIT_LIBLLVM_PATH)
+    # Python's default: compiled modules are cached. Mitsuba's wheel was compiled when it was
+    # installed; an editable spectrace compiles its modules on the warm-up run. Without this,
+    # a machine that sets PYTHONDONTWRITEBYTECODE recompiles spectrace at every start.
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
@@ -231,7 +236,7 @@ def main() -> int:
     per_pass = args.spp_per_pass or "default"
     print(f"spectrace render vs mitsuba, whole process, median of {args.repeats} alternating "
           f"runs (spectrace --spp-per-pass {per_pass})")
-    print_table([("scene", "<12", ""), ("variant", "<17", ""), ("mitsuba [s]", ">11", ".2f"),
+    print_table([("scene", "<12", ""), ("variant", "<26", ""), ("mitsuba [s]", ">11", ".2f"),
                  ("spectrace [s]", ">13", ".2f"), ("wall ratio", ">10", ".2f"),
                  ("best ratio", ">10", ".2f"),
                  ("mitsuba [MiB]", ">13", ".0f"), ("spectrace [MiB]", ">15", ".0f"),
