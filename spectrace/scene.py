@@ -71,26 +71,27 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     params = {k: str(v) for k, v in (params or {}).items()}
     from spectrace import registry
 
-    registry.require(plugin_names(tree, params))  # what a lazily set variant still lacks
+    with defer_sigint():  # plugin modules execute Mitsuba calls: no Ctrl-C inside them
+        registry.require(plugin_names(tree, params))  # what a lazily set variant lacks
     resolver = mi.file_resolver()
     folder = str(path.resolve().parent)
     try:
         resolver.prepend(folder)
         while True:
-            try:
-                with defer_sigint() as sigint:
+            with defer_sigint() as sigint:
+                try:
                     if root is None:
                         scene = mi.load_file(str(path), **params)
                     else:
                         scene = mi.load_string(ET.tostring(tree, encoding="unicode"),
                                                **params)
-                break
-            except (RuntimeError, ValueError, TypeError) as e:
-                # A plugin named where plugin_names does not look (an <include>d file):
-                # registered now, then the scene is loaded again.
-                missing = registry.missing_plugin(str(e))
-                if sigint.seen or missing is None or not registry.require({missing}):
-                    raise
+                    break
+                except (RuntimeError, ValueError, TypeError) as e:
+                    # A plugin named where plugin_names does not look (an <include>d
+                    # file): registered now, then the scene is loaded again.
+                    missing = registry.missing_plugin(str(e))
+                    if sigint.seen or missing is None or not registry.require({missing}):
+                        raise
     except (RuntimeError, ValueError, TypeError) as e:
         if sigint.seen or "KeyboardInterrupt" in str(e):
             # Ctrl-C inside a Python plugin's constructor comes back as a plugin error
