@@ -110,8 +110,9 @@ def console() -> None:
     open) or when a tracer or profiler watches (coverage writes its data at exit).
     """
     code = main()
-    if "distributed" in sys.modules or sys.gettrace() is not None \
-            or sys.getprofile() is not None:
+    watched = sys.gettrace() is not None or sys.getprofile() is not None \
+        or "coverage" in sys.modules  # coverage may watch through sys.monitoring
+    if watched or "distributed" in sys.modules:
         sys.exit(code)
     import os
 

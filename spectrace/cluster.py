@@ -290,19 +290,21 @@ def _cached_scene(spec: SceneSpec):
     return scene
 
 
-def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> np.ndarray:
-    """Task: pass ``index`` (``n`` spp) of a render with seed ``seed``, as float32 (H, W, C).
+def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> tuple[np.ndarray, int]:
+    """Task: pass ``index`` (``n`` spp) of a render with seed ``seed``: the float32
+    (H, W, C) image and the samples per pixel the sampler took (see
+    :func:`spectrace.passes.sampler_spp`).
 
     The same ``mi.render`` call, with the same pass seed, as the local loop's pass
     ``index`` (:func:`spectrace.passes.render_passes`).
     """
     import mitsuba as mi
 
-    from spectrace.passes import pass_seed
+    from spectrace.passes import pass_seed, sampler_spp
 
     scene = _cached_scene(spec)
     img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
-    return np.asarray(img, dtype=np.float32)
+    return np.asarray(img, dtype=np.float32), sampler_spp(scene)
 
 
 def render_image(spec: SceneSpec, spp: int | None, seed: int,

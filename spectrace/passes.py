@@ -2,7 +2,10 @@
 
 A render of ``spp`` samples per pixel is split into passes of at most ``spp_per_pass``
 samples (each a call of ``mi.render`` with its own seed), averaged with weights equal to
-their sample counts. By default a pass holds up to :data:`PASS_SAMPLES` samples and
+their sample counts: the counts the sensor's sampler took, since Mitsuba's ``ldsampler``,
+``stratified``, ``multijitter`` and ``orthogonal`` round some counts up (``ldsampler``
+makes a pass of 36 spp one of 64; :func:`sampler_spp`), so a render may hold a few more
+samples than asked, and its ``spp`` says how many. By default a pass holds up to :data:`PASS_SAMPLES` samples and
 :data:`MAX_SPP_PER_PASS` spp (:func:`default_spp_per_pass`). Mitsuba's LLVM backend keeps
 none of a pass's samples in memory, so the pass size does not set the peak memory (measured
 flat from 4 to 1024 spp per pass), but each pass costs about 12 ms of tracing and launching,
@@ -135,6 +138,14 @@ def scene_spp_per_pass(scene, spp: int, spp_per_pass: int | None = None, sensor=
     return default_spp_per_pass(width * height, spp)
 
 
+def sampler_spp(scene, sensor=0) -> int:
+    """The samples per pixel the sensor's sampler took in the last render: ``mi.render``
+    sets the count asked on the sensor's sampler, which rounds it to one it can make."""
+    if isinstance(sensor, int):
+        sensor = scene.sensors()[sensor]
+    return int(sensor.sampler().sample_count())
+
+
 def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
     """Samples per pass: full passes of ``spp_per_pass``, then the remainder."""
     check_sample_counts(spp, spp_per_pass)
@@ -172,6 +183,7 @@ def render_passes(
             img = mi.render(
                 scene, spp=n, seed=pass_seed(seed, index), sensor=sensor, integrator=integrator
             )
+            n = sampler_spp(scene, sensor)  # the count the sampler took
             if accum is None:
                 shape = tuple(img.shape)
                 accum = dr.opaque(mi.Float64, 0, dr.width(img.array))
@@ -258,8 +270,9 @@ def render_passes_distributed(
                 continue
             for future in ready.next_batch(block=False):
                 index = pending.pop(future)
-                images[index] = future.result()  # a task's own error propagates
-                done += sizes[index]
+                images[index], taken = future.result()  # a task's own error propagates
+                sizes[index] = taken  # the count the worker's sampler took
+                done += taken
                 if on_pass is not None:
                     on_pass(done, spp)
         if pending:

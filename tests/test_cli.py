@@ -34,6 +34,7 @@ def test_console_skips_the_teardown_with_the_command_status(monkeypatch, fake_ex
     """The command's exit status is the process's (os._exit after flushing)."""
     monkeypatch.setattr(cli, "main", lambda: 3)
     monkeypatch.delitem(sys.modules, "distributed", raising=False)
+    monkeypatch.delitem(sys.modules, "coverage", raising=False)
     monkeypatch.setattr(sys, "gettrace", lambda: None)
     monkeypatch.setattr(sys, "getprofile", lambda: None)
     with pytest.raises(_Exited) as ended:
@@ -41,7 +42,7 @@ def test_console_skips_the_teardown_with_the_command_status(monkeypatch, fake_ex
     assert ended.value.code == 3
 
 
-@pytest.mark.parametrize("watcher", ["distributed", "trace", "profile"])
+@pytest.mark.parametrize("watcher", ["distributed", "coverage", "trace", "profile"])
 def test_console_keeps_the_teardown_for_dask_and_tracers(monkeypatch, fake_exit, watcher):
     """After Dask (its exit handlers close what is left) or under a tracer or profiler
     (coverage writes its data at exit), the process ends normally: SystemExit."""
@@ -49,8 +50,9 @@ def test_console_keeps_the_teardown_for_dask_and_tracers(monkeypatch, fake_exit,
     monkeypatch.delitem(sys.modules, "distributed", raising=False)
     monkeypatch.setattr(sys, "gettrace", lambda: None)
     monkeypatch.setattr(sys, "getprofile", lambda: None)
-    if watcher == "distributed":
-        monkeypatch.setitem(sys.modules, "distributed", object())
+    monkeypatch.delitem(sys.modules, "coverage", raising=False)
+    if watcher in ("distributed", "coverage"):
+        monkeypatch.setitem(sys.modules, watcher, object())
     else:
         monkeypatch.setattr(sys, f"get{watcher}", lambda: print)
     with pytest.raises(SystemExit) as ended:
@@ -64,15 +66,15 @@ def test_executable_output_is_complete(tmp_path):
     gives its one line and status 2."""
     out = tmp_path / "x.exr"
     done = subprocess.run([sys.executable, "-m", "spectrace.cli", "render", str(SCENE), "-o",
-                           str(out), "--variant", "llvm_ad_rgb", "--spp", "2", "-D", "res=16",
+                           str(out), "--variant", "llvm_ad_rgb", "--spp", "4", "-D", "res=16",
                            "-q"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
-    assert done.stdout.startswith("showcase.xml: 2 spp in 1 pass") and done.stdout.endswith("\n")
+    assert done.stdout.startswith("showcase.xml: 4 spp in 1 pass") and done.stdout.endswith("\n")
     assert "rendering showcase.xml" in done.stderr
     from spectrace.images import read_exr
 
     image, header = read_exr(out)
-    assert image.shape == (16, 16, 3) and header["spp"] == 2
+    assert image.shape == (16, 16, 3) and header["spp"] == 4
     assert out.with_suffix(".png").read_bytes().endswith(b"IEND\xaeB`\x82")  # the PNG's end
     bad = subprocess.run([sys.executable, "-m", "spectrace.cli", "render", str(SCENE),
                           "--spp", "0"], capture_output=True, text=True, timeout=300)

@@ -62,6 +62,17 @@ def test_distributed_passes_equal_the_local_loop(client):
                                atol=SAME_SEED_ATOL)
 
 
+def test_distributed_passes_weigh_what_the_sampler_took(client):
+    """The showcase's ldsampler makes passes of 8 spp ones of 16: the workers report it,
+    and the image and sample count are the local loop's (48 spp for 24 asked)."""
+    spec = SceneSpec.make(SHOWCASE, PARAMS, VARIANT)
+    remote = render_passes_distributed(client, spec, 24, seed=3, spp_per_pass=8)
+    local = local_render(24, 3, 8)
+    assert remote.spp == local.spp == 48 and remote.passes == local.passes == 3
+    np.testing.assert_allclose(remote.image, local.image, rtol=SAME_SEED_RTOL,
+                               atol=SAME_SEED_ATOL)
+
+
 def test_a_worker_killed_mid_render_loses_nothing(client):
     """SIGKILL one worker process after the first pass: its passes run again elsewhere and
     the image is still the local loop's, with every sample."""

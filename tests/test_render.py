@@ -19,7 +19,7 @@ from spectrace.passes import (
 )
 
 
-def small_scene():
+def small_scene(sampler: str = "independent"):
     import mitsuba as mi
 
     return mi.load_dict({
@@ -29,7 +29,8 @@ def small_scene():
         "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.9, 0.7, 0.5]}},
         "camera": {"type": "perspective", "fov": 45,
                    "to_world": mi.ScalarTransform4f().look_at([0, 0, 4], [0, 0, 0], [0, 1, 0]),
-                   "film": {"type": "hdrfilm", "width": 16, "height": 12}},
+                   "film": {"type": "hdrfilm", "width": 16, "height": 12},
+                   "sampler": {"type": sampler}},
     })
 
 
@@ -86,6 +87,21 @@ def test_passes_are_the_spp_weighted_mean_of_mi_render(variant_rgb):
     assert result.spp == 10 and result.passes == 3 and not result.interrupted
     assert result.image.shape == (12, 16, 3) and result.image.dtype == np.float32
     np.testing.assert_allclose(result.image, expected, rtol=1e-5, atol=1e-6)
+
+
+def test_passes_are_weighted_by_the_samples_the_sampler_took(variant_rgb):
+    """ldsampler makes a pass of 8 spp one of 16 (a power of 4): each pass weighs what was
+    rendered, and the render reports the 32 spp it holds, not the 24 asked."""
+    import mitsuba as mi
+
+    scene = small_scene("ldsampler")
+    result = render_passes(scene, spp=24, seed=5, spp_per_pass=8)
+    expected = sum(np.asarray(mi.render(scene, spp=8, seed=pass_seed(5, i))) * 16
+                   for i in range(3)) / 48
+    assert result.spp == 48 and result.passes == 3
+    np.testing.assert_allclose(result.image, expected, rtol=1e-5, atol=1e-6)
+    exact = render_passes(small_scene(), spp=24, seed=5, spp_per_pass=8)  # independent
+    assert exact.spp == 24
 
 
 def test_same_seed_same_image_other_seed_other_noise(variant_rgb):
