@@ -29,7 +29,8 @@ def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
     ``lazy=True`` (the command line's choice) registers nothing yet, not even Mitsuba's
     own Python integrators: :func:`spectrace.scene.load_scene` registers the plugins a
     scene names as it loads it (:mod:`spectrace.registry`), so a scene of built-in plugins
-    starts as fast as with Mitsuba's ``mitsuba`` executable.
+    starts as fast as with Mitsuba's ``mitsuba`` executable. Code that then builds plugins
+    itself (``mi.load_dict``) registers them first: ``spectrace.registry.require({"phong"})``.
     """
     if "mitsuba" not in sys.modules or name.startswith("llvm"):
         from spectrace.llvm import configure_libllvm
