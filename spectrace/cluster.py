@@ -293,18 +293,18 @@ def _cached_scene(spec: SceneSpec):
 def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> tuple[np.ndarray, int]:
     """Task: pass ``index`` (``n`` spp) of a render with seed ``seed``: the float32
     (H, W, C) image and the samples per pixel the sampler took (see
-    :func:`spectrace.passes.sampler_spp`).
+    :func:`spectrace.passes.scene_spp`).
 
     The same ``mi.render`` call, with the same pass seed, as the local loop's pass
     ``index`` (:func:`spectrace.passes.render_passes`).
     """
     import mitsuba as mi
 
-    from spectrace.passes import pass_seed, sampler_spp
+    from spectrace.passes import pass_seed, scene_spp
 
     scene = _cached_scene(spec)
     img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
-    return np.asarray(img, dtype=np.float32), sampler_spp(scene)
+    return np.asarray(img, dtype=np.float32), scene_spp(scene)
 
 
 def render_image(spec: SceneSpec, spp: int | None, seed: int,

@@ -4,14 +4,14 @@ A render of ``spp`` samples per pixel is split into passes of at most ``spp_per_
 samples (each a call of ``mi.render`` with its own seed), averaged with weights equal to
 their sample counts: the counts the sensor's sampler took, since Mitsuba's ``ldsampler``,
 ``stratified``, ``multijitter`` and ``orthogonal`` round some counts up (``ldsampler``
-makes a pass of 36 spp one of 64; :func:`sampler_spp`), so a render may hold a few more
-samples than asked, and its ``spp`` says how many. By default a pass holds up to :data:`PASS_SAMPLES` samples and
-:data:`MAX_SPP_PER_PASS` spp (:func:`default_spp_per_pass`). Mitsuba's LLVM backend keeps
-none of a pass's samples in memory, so the pass size does not set the peak memory (measured
-flat from 4 to 1024 spp per pass), but each pass costs about 12 ms of tracing and launching,
-and the progress bar and Ctrl-C act between passes. A SIGINT (Ctrl-C) during a pass lets
-the pass finish and then stops the loop, so the image of the completed passes can still be
-saved.
+makes a pass of 36 spp one of 64; :func:`scene_spp` after the pass), so a render may hold
+a few more samples than asked, and its ``spp`` says how many. By default a pass holds up
+to :data:`PASS_SAMPLES` samples and :data:`MAX_SPP_PER_PASS` spp
+(:func:`default_spp_per_pass`). Mitsuba's LLVM backend keeps none of a pass's samples in
+memory, so the pass size does not set the peak memory (measured flat from 4 to 1024 spp
+per pass), but each pass costs about 12 ms of tracing and launching, and the progress bar
+and Ctrl-C act between passes. A SIGINT (Ctrl-C) during a pass lets the pass finish and
+then stops the loop, so the image of the completed passes can still be saved.
 
 The local loop sums the passes in Dr.Jit (float64) and never imports numpy: a render's
 pixels stay a Dr.Jit tensor (:attr:`RenderResult.pixels`) until someone asks for the numpy
@@ -110,9 +110,17 @@ def check_seed(seed: int, option: str = "--seed") -> int:
     return int(seed)
 
 
-def scene_spp(scene, sensor: int = 0) -> int:
-    """The samples per pixel the scene's sensor asks for (its sampler's sample_count)."""
-    return int(scene.sensors()[sensor].sampler().sample_count())
+def _sensor(scene, sensor):
+    """``sensor`` itself, or the scene's sensor of that index."""
+    return scene.sensors()[sensor] if isinstance(sensor, int) else sensor
+
+
+def scene_spp(scene, sensor=0) -> int:
+    """The samples per pixel of the sensor's sampler (``sensor``: an index into the scene's
+    sensors, or a sensor): what the scene asks for, until a render. ``mi.render`` sets the
+    count it is given on that sampler, which rounds it to one it can make, so after a render
+    it is the count that render took."""
+    return int(_sensor(scene, sensor).sampler().sample_count())
 
 
 def default_spp_per_pass(pixels: int, spp: int) -> int:
@@ -132,18 +140,8 @@ def scene_spp_per_pass(scene, spp: int, spp_per_pass: int | None = None, sensor=
     the scene's sensors, or a sensor) (:func:`default_spp_per_pass`)."""
     if spp_per_pass is not None:
         return spp_per_pass
-    if isinstance(sensor, int):
-        sensor = scene.sensors()[sensor]
-    width, height = (int(v) for v in sensor.film().crop_size())
+    width, height = (int(v) for v in _sensor(scene, sensor).film().crop_size())
     return default_spp_per_pass(width * height, spp)
-
-
-def sampler_spp(scene, sensor=0) -> int:
-    """The samples per pixel the sensor's sampler took in the last render: ``mi.render``
-    sets the count asked on the sensor's sampler, which rounds it to one it can make."""
-    if isinstance(sensor, int):
-        sensor = scene.sensors()[sensor]
-    return int(sensor.sampler().sample_count())
 
 
 def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
@@ -183,7 +181,7 @@ def render_passes(
             img = mi.render(
                 scene, spp=n, seed=pass_seed(seed, index), sensor=sensor, integrator=integrator
             )
-            n = sampler_spp(scene, sensor)  # the count the sampler took
+            n = scene_spp(scene, sensor)  # the count the sampler took
             if accum is None:
                 shape = tuple(img.shape)
                 accum = dr.opaque(mi.Float64, 0, dr.width(img.array))

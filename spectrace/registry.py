@@ -109,7 +109,7 @@ def require(names) -> bool:
     from spectrace import plugins
 
     names = set(names)
-    done = bool(plugins.register(names & plugins.PLUGINS.keys()))
+    done = bool(plugins.register(names))  # it ignores the names that are not spectrace's
     others = names - plugins.PLUGINS.keys()
     if others and mi.variant() in _held_back:
         manager = mi.PluginManager.instance()
