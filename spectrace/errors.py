@@ -1,8 +1,46 @@
-"""The one exception type for mistakes a user can make (bad file, bad parameter).
+"""The library's exceptions: mistakes a user can make (a bad parameter, a malformed or
+missing file), each message naming the function parameter, plugin parameter or file.
 
-The command line turns it into a one-line ``error: ...`` on stderr and exit status 2.
+They subclass the built-in types a Python caller expects (:class:`ValueError` for values,
+:class:`OSError` for files), so ``except ValueError`` works as it does with numpy or
+colour-science. The command line (``spectrace.cli``) turns every :class:`SpectraceError`
+into a one-line ``error: ...`` on stderr and exit status 2; flag names and exit codes
+live only in ``spectrace/commands/`` and ``spectrace/cli.py``.
 """
 
+from __future__ import annotations
 
-class UserError(Exception):
-    """A mistake in the user's input: the message names the file or parameter."""
+
+class SpectraceError(Exception):
+    """Base of every mistake in the user's input; the message names what is wrong."""
+
+
+class ParameterError(SpectraceError, ValueError):
+    """A function or plugin parameter has a value it cannot take (named in the message)."""
+
+
+class FileFormatError(SpectraceError, ValueError):
+    """A file's content is malformed or unsupported (the file is named in the message)."""
+
+
+class FileAccessError(SpectraceError, OSError):
+    """A file is missing, unreadable or unwritable (the file is named in the message)."""
+
+
+class UsageError(SpectraceError):
+    """A command-line mistake (a flag's value, a missing argument): raised only by
+    ``spectrace/commands/`` and ``spectrace/cli.py``."""
+
+
+#: Transitional name: library code that still raises ``UserError`` raises the base class,
+#: which the command line catches; new code raises one of the classes above.
+UserError = SpectraceError
+
+
+def first_line(error: BaseException | str) -> str:
+    """The first non-empty line of an error message (the exception's type name when the
+    message is empty): what a one-line ``error: ...`` shows."""
+    text = str(error).strip()
+    if not text:
+        return type(error).__name__ if isinstance(error, BaseException) else ""
+    return text.splitlines()[0].strip()
