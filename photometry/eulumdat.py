@@ -6,7 +6,8 @@ both), 4 Mc (number of C-planes in 0..360), 5 Dc, 6 Ng (intensities per plane), 
 8 measurement report, 9 luminaire name, 10 luminaire number, 11 file name, 12 date/user,
 13-15 luminaire length/diameter, width, height (mm; the outer dimensions, not kept),
 16-17 luminous area length or diameter and width (0: circular), 18-21 its heights at C0,
-C90, C180, C270 (mm; ``Photometry.opening``: length along C0-C180, width along C90-C270), 22 downward flux fraction (%), 23 light output ratio (%),
+C90, C180, C270 (mm; ``Photometry.opening``: length along C0-C180, width along
+C90-C270), 22 downward flux fraction (%), 23 light output ratio (%),
 24 conversion factor for the intensities, 25 tilt during measurement, 26 number n of lamp
 sets, then per set: number of lamps, lamp type, total luminous flux of the set (lm),
 colour, colour rendering, wattage; then 10 direct ratios, the Mc C-angles, the Ng gamma
@@ -69,7 +70,8 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     lorl = reader.number(23, "light output ratio LORL")
     conversion = reader.number(24, "conversion factor for luminous intensities")
     if not conversion > 0:
-        raise FileFormatError(f"{path}: line 24 (conversion factor for luminous intensities): must be "
+        raise FileFormatError(f"{path}: line 24 (conversion factor for luminous intensities): "
+                              "must be "
                         f"> 0 (got {conversion:g})")
     reader.number(25, "tilt of luminaire during measurement")
     n_sets = reader.integer(26, "number of standard sets of lamps", minimum=1)
@@ -183,7 +185,8 @@ def _canonical_planes(path, isym, c_all, stored) -> np.ndarray:
         return c
     lo, hi = expect[isym]
     if not (np.isclose(c[0], lo) and np.isclose(c[-1], hi)):
-        raise FileFormatError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but the planes "
+        raise FileFormatError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but "
+                              "the planes "
                         f"there are C{c[0]:g}..C{c[-1]:g}")
     if isym == 3:
         return np.mod(180.0 - c, 360.0)
@@ -213,7 +216,8 @@ class _Lines:
 
     def text(self, k: int, field: str) -> str:
         if k > len(self.lines):
-            raise FileFormatError(f"{self.path}: line {k} ({field}): the file ends early (truncated)")
+            raise FileFormatError(f"{self.path}: line {k} ({field}): the file ends early "
+                                  "(truncated)")
         return self.lines[k - 1].strip()
 
     def number(self, k: int, field: str) -> float:

@@ -39,11 +39,11 @@ whatever the photometric type:
 * C -> B: ``sin H = -sin gamma sin C``, ``tan V = sin gamma cos C / cos gamma``.
 
 So H = V = 0 is gamma = 0; (H, V) = (0, 30) is (gamma, C) = (30, 0); (H, V) = (30, 0) is
-(30, 270) and (-30, 0) is (30, 90). Symmetry (LM-63-2002, the horizontal and vertical angle fields): horizontal
-angles from 0 to 90 mean a luminaire laterally symmetric about the vertical plane H = 0,
-I(-H, V) = I(H, V) (the C0-C180 plane: "bilateral_0_180"); vertical angles from 0 to 90 one
-symmetric about the horizontal plane V = 0, I(H, -V) = I(H, V) (the C90-C270 plane:
-"bilateral_90_270"); both, "quadrant".
+(30, 270) and (-30, 0) is (30, 90). Symmetry (LM-63-2002, the horizontal and vertical
+angle fields): horizontal angles from 0 to 90 mean a luminaire laterally symmetric about
+the vertical plane H = 0, I(-H, V) = I(H, V) (the C0-C180 plane: "bilateral_0_180");
+vertical angles from 0 to 90 one symmetric about the horizontal plane V = 0,
+I(H, -V) = I(H, V) (the C90-C270 plane: "bilateral_90_270"); both, "quadrant".
 
 The other readers. Radiance's ``source.cal`` (2008 onwards, used by ``ies2rad``) computes
 ``srcB_horiz = atan2(Dy, Dz)``, with D the ray direction towards the source: H positive
@@ -122,6 +122,23 @@ _EDITION_TABLE = {"LM-63-1986": "1986", "LM-63-1991": "1986", "LM-63-1995": "199
                   "LM-63-2002": "2002", "LM-63-2019": "2002"}
 
 
+@dataclass(frozen=True, eq=False)
+class AngleGrid:
+    """A photometric table in its own angles, symmetry expanded, for renderers that sample
+    it (``ieslight``): bilinear interpolation on it is :meth:`Photometry.intensity`.
+
+    ``system`` "C": ``outer`` the C angles over 0..360 and ``inner`` gamma over 0..180 (the
+    whole sphere, :meth:`Photometry.type_c_grid`); "B": ``outer`` V and ``inner`` H in the
+    file's measured range with their mirror images (zero outside). ``candela`` has shape
+    (outer.size, inner.size); each axis has two angles or more.
+    """
+
+    system: str
+    outer: np.ndarray
+    inner: np.ndarray
+    candela: np.ndarray
+
+
 @dataclass(frozen=True)
 class Opening:
     """A luminaire's luminous opening (LM-63) or luminous area (EULUMDAT), in metres.
@@ -170,7 +187,7 @@ def ies_opening(edition: str, width: float, length: float, height: float) -> Ope
     name = table[signs]
     w, l, h = (abs(x) for x in dims)
     if isinstance(name, tuple):  # circle or ellipse: are the negative dimensions equal?
-        negative = [abs(x) for x, s in zip(dims, signs) if s < 0]
+        negative = [abs(x) for x, s in zip(dims, signs, strict=True) if s < 0]
         round_ = np.allclose(negative, negative[0], rtol=OPENING_EQUAL_RTOL, atol=0.0)
         name = name[0] if round_ else name[1]
     if signs[1] == 0 and name in ("disk", "vertical_cylinder", "sphere"):
@@ -365,6 +382,28 @@ class Photometry:
         i = np.clip(np.searchsorted(h, f, side="right") - 1, 0, h.size - 2)
         t = np.clip((f - h[i]) / (h[i + 1] - h[i]), 0.0, 1.0)[:, None]
         return table[i] * (1 - t) + table[i + 1] * t
+
+    def angle_grid(self) -> AngleGrid:
+        """The table in the file's own angles with its symmetry expanded (:class:`AngleGrid`):
+        Type C on (C, gamma) over the whole sphere; Type B on (V, H) with the mirror images
+        a horizontal or vertical range from 0 stands for."""
+        if self.photometric_type == "C":
+            gamma, c, table = self.type_c_grid()
+            if gamma.size < 2:
+                raise ValueError(f"{self.path}: a Type C table needs two vertical angles or "
+                                 "more")
+            return AngleGrid("C", c, gamma, table)
+        h, v, table = self.horizontal_angles, self.vertical_angles, self.candela
+        mirror_h, mirror_v = self._b_mirrors
+        if mirror_h:  # I(-H, V) = I(H, V)
+            h, table = np.concatenate([-h[:0:-1], h]), np.concatenate([table[:0:-1], table])
+        if mirror_v:  # I(H, -V) = I(H, V)
+            v = np.concatenate([-v[:0:-1], v])
+            table = np.concatenate([table[:, :0:-1], table], axis=1)
+        if h.size < 2 or v.size < 2:
+            raise ValueError(f"{self.path}: a Type B table needs two angles or more in each "
+                             "direction (it covers no solid angle)")
+        return AngleGrid("B", v.copy(), h.copy(), np.ascontiguousarray(table.T))
 
     # ---------------------------------------------------------------- evaluation
     def intensity(self, gamma, c) -> np.ndarray:

@@ -189,6 +189,52 @@ def test_type_b_aim_is_local_z_and_v_towards_local_x(variant_rgb, tmp_path):
     assert lum[side < 0.0].sum() == 0.0
 
 
+def test_type_b_positive_h_is_local_plus_y(variant_rgb, tmp_path):
+    """LM-63 measures Type B horizontal angles clockwise seen from above the floodlight: H > 0
+    is C = 270, local +Y (the lookat ``up`` side when aimed down). A floodlight that emits
+    only for H in [10, 60] degrees (|V| <= 30), aimed down with ``up`` = world +Z, lights
+    the floor on the world +Z side only."""
+    from spectrace.photometry import generate
+
+    h = np.arange(-90.0, 90.1, 5.0)
+    v = np.arange(-90.0, 90.1, 5.0)
+    table = np.where((h[:, None] >= 10) & (h[:, None] <= 60) & (np.abs(v[None, :]) <= 30),
+                     500.0, 0.0)
+    path = str(generate.write_ies(tmp_path / "right.ies", v, h, table, photometric_type="B"))
+    p = checks.positions()
+    to_world, _ = aimed([P_LIGHT[0], 0, P_LIGHT[2]], [0, 0, 1])
+    lum = checks.render({"type": "ieslight", "filename": path, "to_world": to_world}).sum(-1)
+    side = p[..., 2] - P_LIGHT[2]
+    assert lum[side > 0.1].sum() > 0
+    assert lum[side < 0.0].sum() == 0.0
+
+
+def test_light_from_an_in_memory_photometry(variant_rgb, tmp_path, rng):
+    """``from_photometry`` builds the light from a ``Photometry`` object: the one read from
+    a file emits what the file's plugin emits; its candela table doubled in memory emits
+    twice that; a table written in memory (isotropic 100 cd) emits 100 cd everywhere."""
+    import mitsuba as mi
+    from spectrace.photometry import Photometry
+    from spectrace.plugins.emitters import ieslight
+
+    path = profile_file(tmp_path, "B_full")
+    photometry = read(path)
+    d = direction(rng.uniform(0, 180, 500), rng.uniform(0, 360, 500))
+    from_file = checks.eval_intensity(mi.load_dict({"type": "ieslight", "filename": path}), d)
+    same = checks.eval_intensity(ieslight.from_photometry(photometry), d)
+    np.testing.assert_array_equal(same, from_file)
+    doubled = ieslight.from_photometry(photometry.replace(candela=2 * photometry.candela),
+                                       {"spectrum": WHITE})
+    np.testing.assert_allclose(checks.eval_intensity(doubled, d), 2 * from_file, rtol=1e-6)
+    table = Photometry(path="memory", format="LM-63-2002", photometric_type="C",
+                       vertical_angles=[0.0, 90.0, 180.0], horizontal_angles=[0.0],
+                       candela=[[100.0, 100.0, 100.0]], symmetry="rotational")
+    value = checks.eval_intensity(ieslight.from_photometry(table, {"scale": 0.5}), d)
+    np.testing.assert_allclose(value, 50.0 * WATTS_PER_CD, rtol=RTOL_SAME)
+    with pytest.raises(ValueError, match="'filename' does not apply"):
+        ieslight.from_photometry(table, {"filename": path})
+
+
 def test_render_turned_profile_against_closed_form(variant_rgb, tmp_path):
     """The asymmetric profile, aimed obliquely by ``to_world``, gives a diffuse plane the
     radiance rho/pi * E with E = I(gamma, C) cos(theta) / r^2 at every pixel, (gamma, C)
