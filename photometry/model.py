@@ -82,6 +82,13 @@ GRID_EDGE_STEP_DEG = 1e-3
 TYPE_B_GRID_STEP_DEG = 1.0
 #: Sampling of a plane (degrees) when locating the beam and field angles.
 SPREAD_STEP_DEG = 0.05
+#: A beam or field angle wider than this (degrees) is not defined: the arc around the peak
+#: would take in more than a half-plane (wide, batwing and wall-pack distributions).
+MAX_SPREAD_DEG = 180.0
+#: The fractions of a plane's peak that define the beam and the field angle (CIE 121, IES).
+BEAM_FRACTION, FIELD_FRACTION = 0.5, 0.1
+#: The two main plane pairs, named by their C angles.
+MAIN_PLANES = {"C0-C180": 0.0, "C90-C270": 90.0}
 
 SYMMETRIES = ("rotational", "quadrant", "bilateral_0_180", "bilateral_90_270", "none")
 #: Relative tolerance within which two opening dimensions count as equal (a circle, not an
@@ -521,7 +528,10 @@ class Photometry:
         """Full angle (degrees) in the plane C = ``c_plane`` / C = ``c_plane`` + 180 between
         the two directions, either side of the plane's peak, where the intensity has fallen
         to ``fraction`` of that peak (linear between samples; the plane is a full circle,
-        through nadir and zenith). NaN if the plane is dark or never falls that far."""
+        through nadir and zenith), as CIE 121 and the IES define beam (50%) and field (10%)
+        angles. NaN, "not defined", if the plane is dark, if the intensity never falls that
+        far on one side, or if the arc around the peak is wider than ``MAX_SPREAD_DEG``
+        (a wide or batwing distribution has no beam in that plane)."""
         # signed angle along the circle: theta >= 0 is gamma = theta in C = c_plane,
         # theta < 0 is gamma = -theta in C = c_plane + 180; theta = -180 is the zenith
         theta = np.arange(-180.0, 180.0, SPREAD_STEP_DEG)
@@ -551,18 +561,33 @@ class Photometry:
             t = (I[j0] - threshold) / (I[j0] - I[j1])
             ends.append(a0 + t * (a1 - a0))
         spread = float(ends[0] - ends[1])
-        return spread if spread <= 360.0 else float("nan")
+        return spread if spread <= MAX_SPREAD_DEG else float("nan")
+
+    def spread_angles(self, fraction: float) -> dict[str, float]:
+        """:meth:`plane_spread` in each main plane pair: {"C0-C180": ..., "C90-C270": ...}
+        (degrees, NaN where not defined)."""
+        return {name: self.plane_spread(fraction, c) for name, c in MAIN_PLANES.items()}
+
+    @property
+    def beam_angles(self) -> dict[str, float]:
+        """Beam angle (degrees, full angle to 50% of the plane's own peak) per main plane."""
+        return self.spread_angles(BEAM_FRACTION)
+
+    @property
+    def field_angles(self) -> dict[str, float]:
+        """Field angle (degrees, full angle to 10% of the plane's own peak) per main plane."""
+        return self.spread_angles(FIELD_FRACTION)
 
     @property
     def beam_angle(self) -> float:
-        """Beam angle (degrees): full angle to 50% of the peak (CIE/IES), the mean of the
-        C0-C180 and C90-C270 planes (each plane relative to its own peak)."""
-        return 0.5 * (self.plane_spread(0.5, 0.0) + self.plane_spread(0.5, 90.0))
+        """Beam angle (degrees): the mean of :attr:`beam_angles` over the C0-C180 and
+        C90-C270 planes; NaN when it is not defined in either."""
+        return float(np.mean(list(self.beam_angles.values())))
 
     @property
     def field_angle(self) -> float:
-        """Field angle (degrees): as :attr:`beam_angle` at 10% of the peak."""
-        return 0.5 * (self.plane_spread(0.1, 0.0) + self.plane_spread(0.1, 90.0))
+        """Field angle (degrees): as :attr:`beam_angle` at 10% of each plane's peak."""
+        return float(np.mean(list(self.field_angles.values())))
 
 
 # -------------------------------------------------------------------- angle conversion
