@@ -226,15 +226,31 @@ def count_text(n: int) -> str:
     return digits if len(digits) <= 12 else f"about 10^{len(digits) - 1}"
 
 
+#: The largest intensity (cd) a file may give once its factors are applied: the brightest
+#: searchlights reach about 1e9 cd; a table beyond this comes from a wrong multiplier, and
+#: its watts per steradian (I / 683 / 107 nm, then 1/r^2) would approach the renderer's
+#: single-precision limit (3.4e38).
+MAX_CANDELA = 1e20
+
+
 def check_finite(path: Path, values: np.ndarray, factor: float) -> None:
     """FileFormatError unless ``values * factor`` (the candela table with the file's factors
-    applied) is finite: huge factors or values must not make infinite intensities."""
+    applied) is finite and at most :data:`MAX_CANDELA`: huge factors or values must not make
+    infinite or absurd intensities."""
     with np.errstate(over="ignore", invalid="ignore"):
-        ok = np.isfinite(factor) and bool(np.all(np.isfinite(values * factor)))
+        candela = values * factor
+        ok = np.isfinite(factor) and bool(np.all(np.isfinite(candela)))
     if not ok:
         raise FileFormatError(
             f"{path}: candela values: the intensities times the file's factors ({factor:g}) "
             "overflow (not finite numbers)"
+        )
+    peak = float(np.max(candela, initial=0.0))
+    if peak > MAX_CANDELA:
+        raise FileFormatError(
+            f"{path}: candela values: the intensities times the file's factors ({factor:g}) "
+            f"reach {peak:.3g} cd, beyond any luminaire (at most {MAX_CANDELA:g} cd; a wrong "
+            "candela multiplier?)"
         )
 
 
