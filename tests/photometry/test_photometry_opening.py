@@ -67,7 +67,7 @@ def test_the_disk_changed_sign_between_editions(tmp_path):
     for version, written in (("LM-63-2002", (-0.3, 0, 0)), ("LM-63-1986", (-0.3, -0.3, 0))):
         ph = ies_file(tmp_path, version, written)  # the file reads; its opening does not
         with pytest.raises(FileFormatError, match=f"{ph.path}.*no shape of {version}"):
-            ph.opening
+            _ = ph.opening
 
 
 def test_feet_are_converted_and_the_photometric_distance(tmp_path):
@@ -105,4 +105,4 @@ def test_eulumdat_width_without_length_is_refused_naming_the_file(tmp_path):
                        luminous_area_mm=(0, 300, 0, 0, 0, 0))
     ph = read_photometry(path)
     with pytest.raises(FileFormatError, match=f"{path}: luminous area"):
-        ph.opening
+        _ = ph.opening
