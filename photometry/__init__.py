@@ -2,8 +2,11 @@
 
 :func:`read_photometry` reads either format into a :class:`Photometry`: the intensity
 table in candela (every factor of the file applied), its symmetry, and what follows from
-it (``intensity(gamma, c)``, ``flux``, ``max_candela``, ``peak_direction``, ``beam_angle``,
-``field_angle``, ``type_c_grid()``). The angle conventions (Type C and Type B) are in
+it (``intensity(gamma, c)``, ``flux``, ``max_candela``, ``peak_direction``, the beam and
+field angles per main plane ``beam_angles`` and ``field_angles``, ``type_c_grid()``, the
+table in its own angles for renderers ``angle_grid()``), and the luminous opening
+(``opening``: an :class:`Opening`, shape and size in metres). The angle conventions (Type C
+and Type B, with a diagram and a comparison with Radiance's and Cycles' readings) are in
 :mod:`spectrace.photometry.model`, the format details in :mod:`spectrace.photometry.ies`
 and :mod:`spectrace.photometry.eulumdat`; :mod:`spectrace.photometry.generate` writes
 files of either format from an analytic or tabulated distribution.
