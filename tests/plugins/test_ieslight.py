@@ -170,41 +170,26 @@ def test_frame_c90_is_local_minus_y(variant_rgb, tmp_path):
         assert lum[side > 0.0].sum() == 0.0, up
 
 
-def test_type_b_aim_is_local_z_and_v_towards_local_x(variant_rgb, tmp_path):
-    """A Type B file's aiming axis (H = V = 0) is local +Z, its V > 0 half is local +X (C = 0,
-    ``up`` x aim with lookat): a floodlight that emits only for V in [10, 60] degrees,
-    aimed down with ``up`` = world +Z, lights the floor on the world +X side only."""
+@pytest.mark.parametrize(("angle", "world_axis"), [("V", 0), ("H", 2)])
+def test_type_b_frame(variant_rgb, tmp_path, angle, world_axis):
+    """A Type B file's aiming axis (H = V = 0) is local +Z; its V > 0 half is local +X
+    (C = 0, ``up`` x aim with lookat); H > 0 is C = 270, local +Y (the lookat ``up`` side
+    when aimed down: LM-63 measures Type B horizontal angles clockwise seen from above the
+    floodlight). A floodlight that emits only for that angle in [10, 60] degrees (the other
+    within 30 degrees of 0), aimed down with ``up`` = world +Z, lights the floor on the
+    world +X side (V) or the world +Z side (H) only."""
     from spectrace.photometry import generate
 
-    h = np.arange(-90.0, 90.1, 5.0)
-    v = np.arange(-90.0, 90.1, 5.0)
-    table = np.where((v[None, :] >= 10) & (v[None, :] <= 60) & (np.abs(h[:, None]) <= 30),
-                     500.0, 0.0)
-    path = str(generate.write_ies(tmp_path / "flood.ies", v, h, table, photometric_type="B"))
+    h = np.arange(-90.0, 90.1, 5.0)[:, None]
+    v = np.arange(-90.0, 90.1, 5.0)[None, :]
+    lit, other = (v, h) if angle == "V" else (h, v)
+    table = np.where((lit >= 10) & (lit <= 60) & (np.abs(other) <= 30), 500.0, 0.0)
+    path = str(generate.write_ies(tmp_path / "flood.ies", v.ravel(), h.ravel(), table,
+                                  photometric_type="B"))
     p = checks.positions()
     to_world, _ = aimed([P_LIGHT[0], 0, P_LIGHT[2]], [0, 0, 1])
     lum = checks.render({"type": "ieslight", "filename": path, "to_world": to_world}).sum(-1)
-    side = p[..., 0] - P_LIGHT[0]
-    assert lum[side > 0.1].sum() > 0
-    assert lum[side < 0.0].sum() == 0.0
-
-
-def test_type_b_positive_h_is_local_plus_y(variant_rgb, tmp_path):
-    """LM-63 measures Type B horizontal angles clockwise seen from above the floodlight: H > 0
-    is C = 270, local +Y (the lookat ``up`` side when aimed down). A floodlight that emits
-    only for H in [10, 60] degrees (|V| <= 30), aimed down with ``up`` = world +Z, lights
-    the floor on the world +Z side only."""
-    from spectrace.photometry import generate
-
-    h = np.arange(-90.0, 90.1, 5.0)
-    v = np.arange(-90.0, 90.1, 5.0)
-    table = np.where((h[:, None] >= 10) & (h[:, None] <= 60) & (np.abs(v[None, :]) <= 30),
-                     500.0, 0.0)
-    path = str(generate.write_ies(tmp_path / "right.ies", v, h, table, photometric_type="B"))
-    p = checks.positions()
-    to_world, _ = aimed([P_LIGHT[0], 0, P_LIGHT[2]], [0, 0, 1])
-    lum = checks.render({"type": "ieslight", "filename": path, "to_world": to_world}).sum(-1)
-    side = p[..., 2] - P_LIGHT[2]
+    side = p[..., world_axis] - P_LIGHT[world_axis]
     assert lum[side > 0.1].sum() > 0
     assert lum[side < 0.0].sum() == 0.0
 
