@@ -68,13 +68,14 @@ def wall_washer_file(tmp_path):
 #: from -90: no symmetry).
 TYPE_B_V = [-90.0, -60.0, -30.0, -10.0, 0.0, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 90.0]
 TYPE_B_H = {"B": [0.0, 5.0, 10.0, 20.0, 40.0, 60.0, 90.0],
-            "B_full": [-90.0, -50.0, -20.0, -5.0, 0.0, 10.0, 30.0, 60.0, 90.0]}
+            "B_full": [-90.0, -50.0, -20.0, -5.0, 0.0, 10.0, 30.0, 60.0, 90.0],
+            "B_quadrant": [0.0, 5.0, 10.0, 20.0, 40.0, 60.0, 90.0]}
 
 
 def profile_file(tmp_path, kind: str) -> str:
     """An asymmetric profile written as Type C ("C": ``wall_washer_file``) or Type B ("B": the
     same wall-washer, laterally symmetric, H from 0; "B_full": the wall-washer turned towards
-    C = 90, H from -90 to 90)."""
+    C = 90, H from -90 to 90; "B_quadrant": H and V from 0, mirrored in both)."""
     from spectrace.photometry import generate
 
     if kind == "C":
@@ -82,8 +83,9 @@ def profile_file(tmp_path, kind: str) -> str:
     washer = generate.wall_washer(800.0)
     func = washer if kind == "B" else (lambda gamma, c: washer(gamma, np.asarray(c) - 90.0))
     h = TYPE_B_H[kind]
-    table = generate.tabulate(func, TYPE_B_V, h, photometric_type="B")
-    return str(generate.write_ies(tmp_path / f"{kind}.ies", TYPE_B_V, h, table,
+    v = [x for x in TYPE_B_V if x >= 0] if kind == "B_quadrant" else TYPE_B_V
+    table = generate.tabulate(func, v, h, photometric_type="B")
+    return str(generate.write_ies(tmp_path / f"{kind}.ies", v, h, table,
                                   photometric_type="B"))
 
 
@@ -133,7 +135,7 @@ WHITE = {"type": "rgb", "value": [1.0, 1.0, 1.0]}
 
 # -- frame and lookup -------------------------------------------------------------------
 
-@pytest.mark.parametrize("kind", ["C", "B", "B_full"])
+@pytest.mark.parametrize("kind", ["C", "B", "B_full", "B_quadrant"])
 def test_lookup_matches_photometry_intensity(variant_rgb, tmp_path, rng, kind):
     """The emitted intensity in a direction at (gamma, C) of the local frame is WATTS_PER_CD
     W/sr per cd of ``Photometry.intensity(gamma, C)`` (bilinear on the file's irregular angles:
@@ -349,14 +351,14 @@ def test_ptracer_agrees_with_direct(variant, tmp_path):
 
 # -- sampling ---------------------------------------------------------------------------
 
-@pytest.mark.parametrize("kind", ["C", "B_full"])
+@pytest.mark.parametrize("kind", ["C", "B_full", "B_quadrant"])
 def test_sample_ray_chi2_and_weights(variant_rgb, tmp_path, rng, kind):
     """``sample_ray`` draws world directions with the density ``ray_direction_pdf``
     (Pearson's chi-square test, mitsuba.chi2; the density integrates to 1), and each ray's
     weight times that density is the emitted intensity I_v(gamma, C) / 683 of the file
     (``Photometry.intensity``): together, the rays carry exactly the intensity profile.
     The mean weight is then the radiant flux, the file's flux / 683. For a Type C file
-    and a Type B one."""
+    and Type B ones (one mirrored in H and V)."""
     import mitsuba as mi
     from mitsuba import chi2
 
