@@ -40,11 +40,13 @@ whatever the photometric type:
 
 So H = V = 0 is gamma = 0; (H, V) = (0, 30) is (gamma, C) = (30, 0); (H, V) = (30, 0) is
 (30, 270) and (-30, 0) is (30, 90). (Converters that write the B-beta relations as
-tan B = cos C tan gamma, sin beta = sin C sin gamma count beta the other way: beta = -H.) Symmetry (LM-63-2002, the horizontal and vertical
-angle fields): horizontal angles from 0 to 90 mean a luminaire laterally symmetric about
-the vertical plane H = 0, I(-H, V) = I(H, V) (the C0-C180 plane: "bilateral_0_180");
-vertical angles from 0 to 90 one symmetric about the horizontal plane V = 0,
-I(H, -V) = I(H, V) (the C90-C270 plane: "bilateral_90_270"); both, "quadrant".
+tan B = cos C tan gamma, sin beta = sin C sin gamma count beta the other way: beta = -H.)
+
+Symmetry (LM-63-2002, the horizontal and vertical angle fields): horizontal angles from 0
+to 90 mean a luminaire laterally symmetric about the vertical plane H = 0,
+I(-H, V) = I(H, V) (the C0-C180 plane: "bilateral_0_180"); vertical angles from 0 to 90
+one symmetric about the horizontal plane V = 0, I(H, -V) = I(H, V) (the C90-C270 plane:
+"bilateral_90_270"); both, "quadrant".
 
 The other readers. Radiance's ``source.cal`` (2008 onwards, used by ``ies2rad``) computes
 ``srcB_horiz = atan2(Dy, Dz)``, with D the ray direction towards the source: H positive
