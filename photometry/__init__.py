@@ -2,8 +2,11 @@
 
 :func:`read_photometry` reads either format into a :class:`Photometry`: the intensity
 table in candela (every factor of the file applied), its symmetry, and what follows from
-it (``intensity(gamma, c)``, ``flux``, ``max_candela``, ``peak_direction``, ``beam_angle``,
-``field_angle``, ``type_c_grid()``). The angle conventions (Type C and Type B) are in
+it (``intensity(gamma, c)``, ``flux``, ``max_candela``, ``peak_direction``, the beam and
+field angles per main plane ``beam_angles`` and ``field_angles``, ``type_c_grid()``, the
+table in its own angles for renderers ``angle_grid()``), and the luminous opening
+(``opening``: an :class:`Opening`, shape and size in metres). The angle conventions (Type C
+and Type B, with a diagram and a comparison with Radiance's and Cycles' readings) are in
 :mod:`spectrace.photometry.model`, the format details in :mod:`spectrace.photometry.ies`
 and :mod:`spectrace.photometry.eulumdat`; :mod:`spectrace.photometry.generate` writes
 files of either format from an analytic or tabulated distribution.
@@ -21,11 +24,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError
 
-from .model import Photometry, Tilt, type_b_to_c, type_c_to_b
+from .model import Opening, Photometry, Tilt, type_b_to_c, type_c_to_b
 
-__all__ = ["Photometry", "Tilt", "read_photometry", "type_b_to_c", "type_c_to_b"]
+__all__ = ["Opening", "Photometry", "Tilt", "read_photometry", "type_b_to_c", "type_c_to_b"]
 
 
 def read_photometry(path) -> Photometry:
@@ -33,7 +36,9 @@ def read_photometry(path) -> Photometry:
 
     The format is told by the content: an LM-63 file has a ``TILT=`` line; otherwise a
     ``.ldt`` name means EULUMDAT. A missing, unreadable or malformed file raises
-    :class:`~spectrace.errors.UserError` with one line naming the file and the field.
+    :class:`~spectrace.errors.FileAccessError` (missing, unreadable) or
+    :class:`~spectrace.errors.FileFormatError` (malformed) with one line naming the file and
+    the field.
     """
     from . import eulumdat, ies
 
@@ -41,16 +46,16 @@ def read_photometry(path) -> Photometry:
     try:
         data = ies.read_file(path)
     except OSError as e:
-        raise UserError(f"{path}: cannot read photometric file: {e.strerror or e}") from None
+        raise FileAccessError(f"{path}: cannot read photometric file: {e.strerror or e}") from None
     text = ies.decode(data)
     if not text.strip():
-        raise UserError(f"{path}: empty file (not an IES or EULUMDAT photometric file)")
+        raise FileFormatError(f"{path}: empty file (not an IES or EULUMDAT photometric file)")
     if ies.is_ies(text):
         return ies.parse_ies(path, text)
     if path.suffix.lower() == ".ldt":
         return eulumdat.parse_ldt(path, text)
     if path.suffix.lower() == ".ies":
         return ies.parse_ies(path, text)  # names what is missing
-    raise UserError(
+    raise FileFormatError(
         f"{path}: unknown format: neither an IES LM-63 file (no TILT= line) nor a .ldt file"
     )

@@ -4,8 +4,10 @@ Line-oriented: 1 company, 2 type indicator Ityp, 3 symmetry indicator Isym (0 no
 1 about the vertical axis, 2 about the C0-C180 plane, 3 about the C90-C270 plane, 4 about
 both), 4 Mc (number of C-planes in 0..360), 5 Dc, 6 Ng (intensities per plane), 7 Dg,
 8 measurement report, 9 luminaire name, 10 luminaire number, 11 file name, 12 date/user,
-13-15 luminaire length/diameter, width, height (mm), 16-17 luminous area, 18-21 its
-heights at C0, C90, C180, C270, 22 downward flux fraction (%), 23 light output ratio (%),
+13-15 luminaire length/diameter, width, height (mm; the outer dimensions, not kept),
+16-17 luminous area length or diameter and width (0: circular), 18-21 its heights at C0,
+C90, C180, C270 (mm; ``Photometry.opening``: length along C0-C180, width along
+C90-C270), 22 downward flux fraction (%), 23 light output ratio (%),
 24 conversion factor for the intensities, 25 tilt during measurement, 26 number n of lamp
 sets, then per set: number of lamps, lamp type, total luminous flux of the set (lm),
 colour, colour rendering, wattage; then 10 direct ratios, the Mc C-angles, the Ng gamma
@@ -29,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileFormatError
 
 from .ies import check_finite, count_text
 from .model import Photometry
@@ -57,15 +59,19 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     number = reader.text(10, "luminaire number")
     file_name = reader.text(11, "file name")
     date = reader.text(12, "date/user")
-    dims = [reader.number(k, name) * MM_TO_M for k, name in
-            ((13, "luminaire length"), (14, "luminaire width"), (15, "luminaire height"))]
-    for k in range(16, 22):
-        reader.number(k, "luminous area dimensions")
+    for k, name in ((13, "luminaire length"), (14, "luminaire width"),
+                    (15, "luminaire height")):
+        reader.number(k, name)  # the outer dimensions: checked, not the luminous opening
+    area = [reader.number(k, name) * MM_TO_M for k, name in (
+        (16, "length or diameter of luminous area"), (17, "width of luminous area"),
+        (18, "height of luminous area C0"), (19, "height of luminous area C90"),
+        (20, "height of luminous area C180"), (21, "height of luminous area C270"))]
     dff = reader.number(22, "downward flux fraction DFF")
     lorl = reader.number(23, "light output ratio LORL")
     conversion = reader.number(24, "conversion factor for luminous intensities")
     if not conversion > 0:
-        raise UserError(f"{path}: line 24 (conversion factor for luminous intensities): must be "
+        raise FileFormatError(f"{path}: line 24 (conversion factor for luminous intensities): "
+                              "must be "
                         f"> 0 (got {conversion:g})")
     reader.number(25, "tilt of luminaire during measurement")
     n_sets = reader.integer(26, "number of standard sets of lamps", minimum=1)
@@ -81,17 +87,17 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
             "watts": reader.number(base + 5, f"lamp set {s + 1}: wattage"),
         })
     if not sets[0]["flux"] > 0:
-        raise UserError(f"{path}: lamp set 1: total luminous flux: must be > 0 "
+        raise FileFormatError(f"{path}: lamp set 1: total luminous flux: must be > 0 "
                         f"(got {sets[0]['flux']:g})")
     if isym in (2,) and mc % 2 or isym in (3, 4) and mc % 4:
-        raise UserError(f"{path}: line 4 (number of C-planes Mc): {mc} does not divide for "
+        raise FileFormatError(f"{path}: line 4 (number of C-planes Mc): {mc} does not divide for "
                         f"symmetry indicator Isym {isym}")
     n_stored = stored_plane_count(isym, mc)
     rest = 27 + 6 * n_sets  # first line after the lamp sets
     tokens = [t for line in lines[rest - 1 :] for t in line.split()]
     need = 10 + mc + ng + n_stored * ng
     if len(tokens) < need:  # before allocating: a corrupt count may be astronomically large
-        raise UserError(
+        raise FileFormatError(
             f"{path}: intensities: the file ends early (truncated: {count_text(need)} numbers "
             f"expected after the lamp sets - 10 direct ratios, {count_text(mc)} C-angles, "
             f"{count_text(ng)} gamma angles, {count_text(n_stored)} x {count_text(ng)} "
@@ -99,7 +105,7 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
         )
     stored = stored_planes(isym, mc)
     if len(tokens) > need:
-        raise UserError(
+        raise FileFormatError(
             f"{path}: intensities: wrong counts: Mc = {mc}, Ng = {ng}, Isym = {isym} call for "
             f"{need} numbers after the lamp sets but {len(tokens)} follow"
         )
@@ -110,11 +116,11 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     _increasing(path, "C-angles", c_all)
     _increasing(path, "gamma angles", gamma)
     if gamma[0] < 0 or gamma[-1] > 180:
-        raise UserError(f"{path}: gamma angles: must lie in 0..180 "
+        raise FileFormatError(f"{path}: gamma angles: must lie in 0..180 "
                         f"(got {gamma[0]:g}..{gamma[-1]:g})")
     if np.any(table < 0):
         k, j = np.argwhere(table < 0)[0]
-        raise UserError(f"{path}: intensities: negative value {table[k, j]:g} at C = "
+        raise FileFormatError(f"{path}: intensities: negative value {table[k, j]:g} at C = "
                         f"{c_all[stored[k]]:g}, gamma = {gamma[j]:g}")
     horizontal = _canonical_planes(path, isym, c_all, stored)
     if isym == 3:
@@ -142,7 +148,8 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
         applied_factor=factor,
         multiplier=conversion,
         input_watts=sets[0]["watts"],
-        opening_m=(dims[1], dims[0], dims[2]),
+        opening_m=(area[1], area[0], max(area[2:])),
+        opening_side_heights=tuple(area[2:]),
     )
 
 
@@ -171,14 +178,15 @@ def _canonical_planes(path, isym, c_all, stored) -> np.ndarray:
     if isym == 1:
         return np.array([0.0])
     if c_all[0] != 0:
-        raise UserError(f"{path}: C-angles: must start at 0 (got {c_all[0]:g})")
+        raise FileFormatError(f"{path}: C-angles: must start at 0 (got {c_all[0]:g})")
     if isym == 0:
         if c_all[-1] >= 360:
-            raise UserError(f"{path}: C-angles: must lie below 360 (got {c_all[-1]:g})")
+            raise FileFormatError(f"{path}: C-angles: must lie below 360 (got {c_all[-1]:g})")
         return c
     lo, hi = expect[isym]
     if not (np.isclose(c[0], lo) and np.isclose(c[-1], hi)):
-        raise UserError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but the planes "
+        raise FileFormatError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but "
+                              "the planes "
                         f"there are C{c[0]:g}..C{c[-1]:g}")
     if isym == 3:
         return np.mod(180.0 - c, 360.0)
@@ -189,15 +197,15 @@ def _number(path, token: str, field: str) -> float:
     try:
         value = float(token.replace(",", "."))
     except ValueError:
-        raise UserError(f"{path}: {field}: {token[:30]!r} is not a number") from None
+        raise FileFormatError(f"{path}: {field}: {token[:30]!r} is not a number") from None
     if not np.isfinite(value):
-        raise UserError(f"{path}: {field}: {token!r} is not a finite number")
+        raise FileFormatError(f"{path}: {field}: {token!r} is not a finite number")
     return value
 
 
 def _increasing(path, field, values) -> None:
     if values.size > 1 and np.any(np.diff(values) <= 0):
-        raise UserError(f"{path}: {field}: must increase")
+        raise FileFormatError(f"{path}: {field}: must increase")
 
 
 class _Lines:
@@ -208,25 +216,26 @@ class _Lines:
 
     def text(self, k: int, field: str) -> str:
         if k > len(self.lines):
-            raise UserError(f"{self.path}: line {k} ({field}): the file ends early (truncated)")
+            raise FileFormatError(f"{self.path}: line {k} ({field}): the file ends early "
+                                  "(truncated)")
         return self.lines[k - 1].strip()
 
     def number(self, k: int, field: str) -> float:
         token = self.text(k, field)
         if not token:
-            raise UserError(f"{self.path}: line {k} ({field}): empty, a number is expected")
+            raise FileFormatError(f"{self.path}: line {k} ({field}): empty, a number is expected")
         return _number(self.path, token.split()[0], f"line {k} ({field})")
 
     def integer(self, k: int, field: str, minimum: int | None = None, choices=None) -> int:
         value = self.number(k, field)
         if value != int(value):
-            raise UserError(f"{self.path}: line {k} ({field}): must be a whole number "
+            raise FileFormatError(f"{self.path}: line {k} ({field}): must be a whole number "
                             f"(got {value:g})")
         value = int(value)
         if minimum is not None and value < minimum:
-            raise UserError(f"{self.path}: line {k} ({field}): must be >= {minimum} "
+            raise FileFormatError(f"{self.path}: line {k} ({field}): must be >= {minimum} "
                             f"(got {value})")
         if choices is not None and value not in choices:
-            raise UserError(f"{self.path}: line {k} ({field}): must be one of "
+            raise FileFormatError(f"{self.path}: line {k} ({field}): must be one of "
                             f"{', '.join(map(str, choices))} (got {value})")
         return value

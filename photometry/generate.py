@@ -229,14 +229,18 @@ def write_ldt(
     cri: str = "80",
     watts: float = 10.0,
     dimensions_mm: tuple = (100.0, 0.0, 50.0),
+    luminous_area_mm: tuple | None = None,
     comma_decimal: bool = False,
 ) -> Path:
     """Write a EULUMDAT file of ``func(gamma, c)`` (cd) with symmetry indicator ``isym``.
 
     The file holds cd/klm: I / (lamp_flux / 1000) / conversion_factor, for the planes that
     ``isym`` stores (:func:`ldt_stored_planes`) at Mc C-angles 0, 360/mc, ... and the
-    gamma angles (default 0..180 every 2.5 degrees). ``comma_decimal`` writes "0,5" as
-    some European tools do.
+    gamma angles (default 0..180 every 2.5 degrees). ``dimensions_mm``: the luminaire's
+    length, width, height (lines 13-15); ``luminous_area_mm``: the luminous area's length
+    or diameter, width and heights at C0, C90, C180, C270 (lines 16-21; default the
+    luminaire's length and width, heights 0). ``comma_decimal`` writes "0,5" as some
+    European tools do.
     """
     g = np.arange(0.0, 180.001, 2.5) if gamma_angles is None else np.asarray(gamma_angles)
     c_all = np.arange(mc) * (360.0 / mc)
@@ -254,11 +258,12 @@ def write_ldt(
     lorl = 100.0 * flux / lamp_flux
     dff = 100.0 * record.flux_between(0.0, 90.0) / record.flux if record.flux > 0 else 100.0
     length, width, height = dimensions_mm
+    area = (length, width, 0, 0, 0, 0) if luminous_area_mm is None else luminous_area_mm
     lines = [
         company, "1" if isym == 1 else "3", str(isym), str(mc), num(360.0 / mc), str(g.size),
         num(g[1] - g[0]) if np.allclose(np.diff(g), g[1] - g[0]) else "0",
         report, luminaire, luminaire_number, Path(path).name, "spectrace generate",
-        num(length), num(width), num(height), num(length), num(width), "0", "0", "0", "0",
+        num(length), num(width), num(height), *(num(x) for x in area),
         num(round(dff, 2)), num(round(lorl, 2)), num(conversion_factor), "0",
         "1", str(n_lamps), lamp_type, num(lamp_flux), colour, cri, num(watts),
         *(["0"] * 10),

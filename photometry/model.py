@@ -1,26 +1,72 @@
 """The :class:`Photometry` record: a luminaire's intensity table and what follows from it.
 
-Angles are in degrees and intensities in candela throughout.
+Angles are in degrees, intensities in candela and lengths in metres throughout.
 
 Type C (the C-gamma system of LM-63 and EULUMDAT): gamma is the angle from the photometric
 zero (nadir, the direction the light points), C the azimuth of the half-plane around the
-gamma = 0 axis, C = 0 along the luminaire's local +X, C growing counterclockwise seen from
-above the luminaire (from the side opposite to nadir), so C = 90 is local -Y.
+gamma = 0 axis, C = 0 along the luminaire's local +X (its length, the "photometric
+horizontal"), C growing counterclockwise seen from above the luminaire (from the side
+opposite to nadir; LM-63-2002 sec. 3: "measured counterclockwise in a horizontal plane for
+Type C photometry"), so C = 90 is local -Y.
 
-Type B (floodlights, LM-63 photometric type 2): the polar axis is horizontal, through the
-luminaire and perpendicular to its aiming axis. The vertical angle V is the tilt of a
-B-plane about that polar axis; the horizontal angle H is measured inside the B-plane from
-the plane's aiming line towards the polar axis (-90 <= H <= 90). (H, V) = (0, 0) is the
-aiming axis. A direction is ``cos H cos V * aim + cos H sin V * up + sin H * side``, and
-in the Type C frame we put ``aim`` at gamma = 0 (local +Z of ``ieslight``), ``up`` (V > 0)
-at C = 0 (local +X) and ``side`` (H > 0) at C = 90 (local -Y):
+Type B (floodlights, LM-63 photometric type 2; the B-beta system of CIE 121 and EN 13032-1).
+The polar axis is horizontal: the luminaire's minor axis (its width, the C90-C270 line),
+perpendicular to the aiming axis. A B-plane is a plane through the polar axis; the vertical
+angle V is the tilt of the B-plane about the polar axis (V = 0: the plane through the aiming
+axis; V > 0 upwards, towards the photometric horizontal, which LM-63 puts at (H, V) =
+(0, 90) for Type B as for Type C); the horizontal angle H is measured *inside* the B-plane,
+from the plane's aiming line towards the polar axis (-90 <= H <= 90). Both are rotation
+angles, not projections. H is positive clockwise seen from above the floodlight in its
+measuring position (LM-63-2002 sec. 3: horizontal angles are "measured ... clockwise for
+Type A and B photometry"), that is to the right seen from behind the luminaire, as in
+headlamp photometry (H right, V up). Seen from behind the floodlight, aimed away from the
+viewer::
 
-* B -> C: ``cos gamma = cos H cos V``, ``C = atan2(sin H, cos H sin V)``;
-* C -> B: ``sin H = sin gamma sin C``, ``tan V = sin gamma cos C / cos gamma``
+                 V = +90 (up: photometric horizontal, Type C C = 0, local +X)
+                    |
+                    |    B-plane V = v: the plane through the polar axis tilted by v
+        H = -90 ----+---- H = +90    polar axis (luminaire width), C = 90 / 270
+      (left, C 90)  |    (right, C 270, local +Y)
+                    |
+                 V = -90            aiming axis (H = V = 0) into the page: gamma = 0
 
-(the relations tan B = cos C tan gamma, sin beta = sin C sin gamma used by EULUMDAT
-converters, with B = V and beta = H). So H = V = 0 is gamma = 0; (H, V) = (0, 30) is
-(gamma, C) = (30, 0); (H, V) = (30, 0) is (30, 90).
+A direction is ``cos H cos V * aim + cos H sin V * up + sin H * right``; in the Type C frame
+``aim`` is gamma = 0 (local +Z of ``ieslight``), ``up`` C = 0 (local +X) and ``right``
+C = 270 (local +Y), so that the record gives one direction for one physical direction
+whatever the photometric type:
+
+* B -> C: ``cos gamma = cos H cos V``, ``C = atan2(-sin H, cos H sin V)``;
+* C -> B: ``sin H = -sin gamma sin C``, ``tan V = sin gamma cos C / cos gamma``.
+
+So H = V = 0 is gamma = 0; (H, V) = (0, 30) is (gamma, C) = (30, 0); (H, V) = (30, 0) is
+(30, 270) and (-30, 0) is (30, 90). (Converters that write the B-beta relations as
+tan B = cos C tan gamma, sin beta = sin C sin gamma count beta the other way: beta = -H.)
+
+Symmetry (LM-63-2002, the horizontal and vertical angle fields): horizontal angles from 0
+to 90 mean a luminaire laterally symmetric about the vertical plane H = 0,
+I(-H, V) = I(H, V) (the C0-C180 plane: "bilateral_0_180"); vertical angles from 0 to 90
+one symmetric about the horizontal plane V = 0, I(H, -V) = I(H, V) (the C90-C270 plane:
+"bilateral_90_270"); both, "quadrant".
+
+The other readers. Radiance's ``source.cal`` (2008 onwards, used by ``ies2rad``) computes
+``srcB_horiz = atan2(Dy, Dz)``, with D the ray direction towards the source: H positive
+towards C = 270, as here, but H is the angle of the direction's projection on the V = 0
+plane rather than the angle inside its own B-plane; the two agree in the planes H = 0 and
+V = 0 and differ off them (by arctan(tan H / cos V) against H: 3.7 degrees at H = 30,
+V = 30). We agree with Radiance on the sign and not on the projection: LM-63 and CIE 121
+measure H within the B-plane. Blender Cycles (``src/util/ies.cpp``, Type B since 2024)
+transposes the table into its own spherical grid, H + 90 as the polar angle and V + 90 as
+the azimuth about the polar axis: rotation angles as here, and it mirrors both a horizontal
+range from 0 and a vertical range from 0 as here, but it puts the polar axis along the
+lamp's own axis and leaves the aiming to the user, so its directions are ours only after a
+rotation the user must supply. spectrace before this reading put H > 0 at C = 90 (the
+mirror image: asymmetric Type B files came out left for right) and did not mirror a
+vertical range from 0.
+
+The luminous opening (:class:`Opening`): LM-63's width, length and height fields with the
+meaning of their signs in each edition (:data:`OPENING_SHAPES`), length along C0-C180 and
+width along C90-C270 (as Radiance's ``ies2rad`` reads them), or EULUMDAT's luminous area
+(fields 16-21).
 """
 
 from __future__ import annotations
@@ -39,8 +85,159 @@ GRID_EDGE_STEP_DEG = 1e-3
 TYPE_B_GRID_STEP_DEG = 1.0
 #: Sampling of a plane (degrees) when locating the beam and field angles.
 SPREAD_STEP_DEG = 0.05
+#: A beam or field angle wider than this (degrees) is not defined: the arc around the peak
+#: would take in more than a half-plane (wide, batwing and wall-pack distributions).
+MAX_SPREAD_DEG = 180.0
+#: The fractions of a plane's peak that define the beam and the field angle (CIE 121, IES).
+BEAM_FRACTION, FIELD_FRACTION = 0.5, 0.1
+#: The two main plane pairs, named by their C angles.
+MAIN_PLANES = {"C0-C180": 0.0, "C90-C270": 90.0}
 
 SYMMETRIES = ("rotational", "quadrant", "bilateral_0_180", "bilateral_90_270", "none")
+#: Relative tolerance within which two opening dimensions count as equal (a circle, not an
+#: ellipse); files print them with a few digits.
+OPENING_EQUAL_RTOL = 1e-3
+#: The photometric distance is this many times the opening's largest dimension: beyond it
+#: the point (far-field) law E = I cos / r^2 holds within about 1% (CIE 121-1996, sec. 4).
+PHOTOMETRIC_DISTANCE_FACTOR = 5.0
+
+#: LM-63 luminous openings by edition: the signs (-1, 0, +1) of (width, length, height) ->
+#: shape. Length lies along C0-C180, width along C90-C270. 1986 and 1991 share a table, so
+#: do 2002 and 2019; a name in a pair (circle, ellipse) is chosen by whether the two negative
+#: dimensions are equal. The tables follow the editions as Radiance's ``ies2rad``
+#: (``makeiesshape``, 2021) reads them, including its extension of a box with one zero
+#: horizontal side (a vertical rectangle) and its reading of 1986's ellipse with a height as
+#: an ellipsoid.
+_BOX = {(1, 1, 1): "box", (0, 1, 1): "box", (1, 0, 1): "box"}
+OPENING_SHAPES = {
+    "1986": {(0, 0, 0): "point", (1, 1, 0): "rectangle", **_BOX,
+             (-1, 0, 0): "disk", (-1, 0, 1): "vertical_cylinder", (-1, 1, 0): "ellipse",
+             (-1, 1, 1): "ellipsoid"},
+    "1995": {(0, 0, 0): "point", (1, 1, 0): "rectangle", **_BOX,
+             (-1, 0, 0): "disk", (-1, 0, 1): "vertical_cylinder", (-1, 0, -1): "sphere",
+             (0, 1, -1): "horizontal_cylinder_along", (1, 0, -1): "horizontal_cylinder_across",
+             (1, -1, 1): "vertical_elliptical_cylinder",
+             (-1, 1, 1): "vertical_elliptical_cylinder",
+             (1, -1, -1): "ellipsoid", (-1, 1, -1): "ellipsoid"},
+    "2002": {(0, 0, 0): "point", (1, 1, 0): "rectangle", **_BOX,
+             (-1, -1, 0): ("disk", "ellipse"),
+             (-1, -1, 1): ("vertical_cylinder", "vertical_elliptical_cylinder"),
+             (-1, -1, -1): ("sphere", "ellipsoid"),
+             (-1, 1, -1): ("horizontal_cylinder_along", "horizontal_elliptical_cylinder_along"),
+             (1, -1, -1): ("horizontal_cylinder_across",
+                           "horizontal_elliptical_cylinder_across"),
+             (0, -1, -1): ("vertical_disk", "vertical_ellipse")},
+}
+_EDITION_TABLE = {"LM-63-1986": "1986", "LM-63-1991": "1986", "LM-63-1995": "1995",
+                  "LM-63-2002": "2002", "LM-63-2019": "2002"}
+
+
+@dataclass(frozen=True, eq=False)
+class AngleGrid:
+    """A photometric table in its own angles, symmetry expanded, for renderers that sample
+    it (``ieslight``): bilinear interpolation on it is :meth:`Photometry.intensity`.
+
+    ``system`` "C": ``outer`` the C angles over 0..360 and ``inner`` gamma over 0..180 (the
+    whole sphere, :meth:`Photometry.type_c_grid`); "B": ``outer`` V and ``inner`` H in the
+    file's measured range with their mirror images (zero outside). ``candela`` has shape
+    (outer.size, inner.size); each axis has two angles or more.
+    """
+
+    system: str
+    outer: np.ndarray
+    inner: np.ndarray
+    candela: np.ndarray
+
+
+@dataclass(frozen=True)
+class Opening:
+    """A luminaire's luminous opening (LM-63) or luminous area (EULUMDAT), in metres.
+
+    ``shape``: "point", "rectangle" (width x length, horizontal), "box" (width x length x
+    height, luminous sides), "disk" / "ellipse" (horizontal, diameters width and length),
+    "vertical_cylinder" / "vertical_elliptical_cylinder" (that disk or ellipse extruded by
+    the height), "sphere" / "ellipsoid", "horizontal_cylinder_along" (axis along the
+    length, C0-C180, diameter the width = height) / "..._across" (axis along the width,
+    C90-C270, diameter the length = height) and their elliptical forms, "vertical_disk" /
+    "vertical_ellipse" (in the vertical plane of the length, facing C90-C270; width 0).
+    ``width`` lies along C90-C270 and ``length`` along C0-C180, both >= 0 (the file's signs
+    give the shape, not the size); a circle's diameter is both. ``side_heights``: EULUMDAT's
+    heights of the luminous area at C0, C90, C180, C270 (``height`` is their largest).
+    """
+
+    shape: str
+    width: float = 0.0
+    length: float = 0.0
+    height: float = 0.0
+    side_heights: tuple[float, float, float, float] | None = None
+
+    @property
+    def largest_dimension(self) -> float:
+        """The largest of width, length and height (m)."""
+        return max(self.width, self.length, self.height)
+
+    @property
+    def photometric_distance(self) -> float:
+        """PHOTOMETRIC_DISTANCE_FACTOR times the largest dimension (m): from there on the
+        luminaire may be taken as a point."""
+        return PHOTOMETRIC_DISTANCE_FACTOR * self.largest_dimension
+
+
+def ies_opening(edition: str, width: float, length: float, height: float) -> Opening:
+    """The :class:`Opening` of LM-63 ``edition`` ("LM-63-1986" ... "LM-63-2019") from its
+    signed width, length and height (m). Raises ``ValueError`` (no path: the caller names
+    the file) when the signs are no shape of that edition."""
+    dims = (float(width), float(length), float(height))
+    signs = tuple(int(np.sign(x)) for x in dims)
+    table = OPENING_SHAPES[_EDITION_TABLE[edition]]
+    if signs not in table:
+        raise ValueError(
+            f"luminous opening: width {dims[0]:g}, length {dims[1]:g}, height {dims[2]:g} m "
+            f"(signs {''.join('-0+'[s + 1] for s in signs)}) is no shape of {edition}")
+    name = table[signs]
+    w, l, h = (abs(x) for x in dims)
+    if isinstance(name, tuple):  # circle or ellipse: are the negative dimensions equal?
+        negative = [abs(x) for x, s in zip(dims, signs, strict=True) if s < 0]
+        round_ = np.allclose(negative, negative[0], rtol=OPENING_EQUAL_RTOL, atol=0.0)
+        name = name[0] if round_ else name[1]
+    if signs[1] == 0 and name in ("disk", "vertical_cylinder", "sphere"):
+        l = w  # 1986-1995: the diameter is the width alone
+    if name == "horizontal_cylinder_along" and signs[0] == 0:
+        w = h  # 1995: the diameter is the height
+    if name == "horizontal_cylinder_across" and signs[1] == 0:
+        l = h
+    if name == "sphere":
+        if not np.isclose(w, h, rtol=OPENING_EQUAL_RTOL, atol=0.0):
+            raise ValueError(f"luminous opening: a sphere of {edition} has equal width and "
+                             f"height (got {w:g} and {h:g} m)")
+        h = w
+    return Opening(name, w, l, h)
+
+
+def ldt_opening(length: float, width: float, side_heights) -> Opening:
+    """The :class:`Opening` of EULUMDAT's luminous area (m): ``length`` (field 16, the
+    length or the diameter; along C0-C180 as LM-63's), ``width`` (field 17, along C90-C270;
+    0 for a circular area) and the heights at C0, C90, C180, C270 (fields 18-21): a point
+    (all 0), a disk or a rectangle, with luminous sides (any height > 0) a vertical cylinder
+    or a box. Raises ``ValueError`` (no path) for a negative size or a width without a
+    length."""
+    heights = tuple(float(x) for x in side_heights)
+    if min(length, width, *heights) < 0:
+        raise ValueError("luminous area (lines 16-21): sizes must be >= 0 (got length "
+                         f"{length:g}, width {width:g}, heights {heights} m)")
+    if width > 0 and not length > 0:
+        raise ValueError(f"luminous area (lines 16-17): a width ({width:g} m) needs a length "
+                         "or diameter (line 16 is 0)")
+    height = max(heights)
+    if not length > 0:
+        if height > 0:
+            raise ValueError("luminous area (lines 18-21): heights without a length or "
+                             "diameter (line 16 is 0)")
+        return Opening("point", side_heights=heights)
+    if width == 0:
+        return Opening("vertical_cylinder" if height > 0 else "disk", length, length, height,
+                       heights)
+    return Opening("box" if height > 0 else "rectangle", width, length, height, heights)
 
 
 @dataclass
@@ -74,7 +271,9 @@ class Photometry:
     the whole sphere: "rotational" (one plane), "quadrant" (C 0-90), "bilateral_0_180"
     (C 0-180, mirror about the C0-C180 plane), "bilateral_90_270" (C 90-270, mirror about
     the C90-C270 plane), "none" (C 0-360). A Type B table with H from 0 is laterally
-    symmetric, I(H, V) = I(-H, V): a mirror about the C0-C180 plane, "bilateral_0_180".
+    symmetric, I(H, V) = I(-H, V): a mirror about the C0-C180 plane, "bilateral_0_180"; one
+    with V from 0 is symmetric about its horizontal plane, I(H, -V) = I(H, V): a mirror
+    about the C90-C270 plane, "bilateral_90_270"; both: "quadrant".
     Treat the arrays as read-only (the expanded table and the flux are cached); use
     :meth:`replace` for a changed copy.
     """
@@ -98,8 +297,11 @@ class Photometry:
     tilt: Tilt | None = None
     tilt_factor: float = 1.0
     input_watts: float | None = None
-    #: luminous opening (width, length, height) in metres, as LM-63 defines their signs
+    #: luminous opening (width, length, height) in metres with the file's signs (LM-63) or
+    #: the luminous area (EULUMDAT, positive); see :attr:`opening`
     opening_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    #: EULUMDAT's heights of the luminous area at C0, C90, C180, C270 (m); None for LM-63
+    opening_side_heights: tuple[float, float, float, float] | None = None
 
     def __post_init__(self):
         self.path = Path(self.path)
@@ -116,6 +318,32 @@ class Photometry:
     def replace(self, **changes) -> Photometry:
         """A copy with some fields changed (e.g. ``candela`` scaled)."""
         return dataclasses.replace(self, **changes)
+
+    # ---------------------------------------------------------------- the opening
+    @cached_property
+    def opening(self) -> Opening:
+        """The luminous opening (:class:`Opening`, metres), read from the width, length and
+        height of an LM-63 file by the signs of its edition, or from a EULUMDAT file's
+        luminous area. Raises :class:`~spectrace.errors.FileFormatError` naming the file
+        when the file's values are no shape (reading the file does not: the intensities
+        stay usable)."""
+        from spectrace.errors import FileFormatError
+
+        width, length, height = self.opening_m
+        try:
+            if self.format == "EULUMDAT":
+                return ldt_opening(length, width, self.opening_side_heights or (0.0,) * 4)
+            return ies_opening(self.format if self.format in _EDITION_TABLE else
+                               "LM-63-2002", width, length, height)
+        except ValueError as error:
+            raise FileFormatError(f"{self.path}: {error}") from None
+
+    # ---------------------------------------------------------------- Type B symmetry
+    @property
+    def _b_mirrors(self) -> tuple[bool, bool]:
+        """Type B: (mirrored in H, mirrored in V) by the symmetry."""
+        return (self.symmetry in ("bilateral_0_180", "quadrant"),
+                self.symmetry in ("bilateral_90_270", "quadrant"))
 
     # ---------------------------------------------------------------- the whole sphere
     @cached_property
@@ -165,6 +393,28 @@ class Photometry:
         t = np.clip((f - h[i]) / (h[i + 1] - h[i]), 0.0, 1.0)[:, None]
         return table[i] * (1 - t) + table[i + 1] * t
 
+    def angle_grid(self) -> AngleGrid:
+        """The table in the file's own angles with its symmetry expanded (:class:`AngleGrid`):
+        Type C on (C, gamma) over the whole sphere; Type B on (V, H) with the mirror images
+        a horizontal or vertical range from 0 stands for."""
+        if self.photometric_type == "C":
+            gamma, c, table = self.type_c_grid()
+            if gamma.size < 2:
+                raise ValueError(f"{self.path}: a Type C table needs two vertical angles or "
+                                 "more")
+            return AngleGrid("C", c, gamma, table)
+        h, v, table = self.horizontal_angles, self.vertical_angles, self.candela
+        mirror_h, mirror_v = self._b_mirrors
+        if mirror_h:  # I(-H, V) = I(H, V)
+            h, table = np.concatenate([-h[:0:-1], h]), np.concatenate([table[:0:-1], table])
+        if mirror_v:  # I(H, -V) = I(H, V)
+            v = np.concatenate([-v[:0:-1], v])
+            table = np.concatenate([table[:, :0:-1], table], axis=1)
+        if h.size < 2 or v.size < 2:
+            raise ValueError(f"{self.path}: a Type B table needs two angles or more in each "
+                             "direction (it covers no solid angle)")
+        return AngleGrid("B", v.copy(), h.copy(), np.ascontiguousarray(table.T))
+
     # ---------------------------------------------------------------- evaluation
     def intensity(self, gamma, c) -> np.ndarray:
         """Intensity (cd) at Type C angles ``gamma``, ``c`` in degrees (numpy broadcast).
@@ -183,8 +433,9 @@ class Photometry:
             cgrid, table = self._c_table
             return _bilinear(cgrid, self.vertical_angles, table, c, g)
         H, V = type_c_to_b(g, c)
-        if self.symmetry == "bilateral_0_180":
-            H = np.abs(H)
+        mirror_h, mirror_v = self._b_mirrors
+        H = np.abs(H) if mirror_h else H
+        V = np.abs(V) if mirror_v else V
         return _bilinear(self.horizontal_angles, self.vertical_angles, self.candela, H, V)
 
     def type_c_grid(self, step: float | None = None):
@@ -234,8 +485,8 @@ class Photometry:
         wh = _linear_weights(np.radians(self.horizontal_angles), "cos")
         wv = _trapezoid_weights(np.radians(self.vertical_angles))
         total = float(wh @ self.candela @ wv)
-        if self.symmetry == "bilateral_0_180":  # H from 0: the mirrored half H < 0
-            total *= 2.0
+        for mirrored in self._b_mirrors:  # H (or V) from 0: the mirrored half below 0
+            total *= 2.0 if mirrored else 1.0
         return total
 
     def flux_between(self, gamma_lo: float, gamma_hi: float) -> float:
@@ -280,7 +531,10 @@ class Photometry:
         """Full angle (degrees) in the plane C = ``c_plane`` / C = ``c_plane`` + 180 between
         the two directions, either side of the plane's peak, where the intensity has fallen
         to ``fraction`` of that peak (linear between samples; the plane is a full circle,
-        through nadir and zenith). NaN if the plane is dark or never falls that far."""
+        through nadir and zenith), as CIE 121 and the IES define beam (50%) and field (10%)
+        angles. NaN, "not defined", if the plane is dark, if the intensity never falls that
+        far on one side, or if the arc around the peak is wider than ``MAX_SPREAD_DEG``
+        (a wide or batwing distribution has no beam in that plane)."""
         # signed angle along the circle: theta >= 0 is gamma = theta in C = c_plane,
         # theta < 0 is gamma = -theta in C = c_plane + 180; theta = -180 is the zenith
         theta = np.arange(-180.0, 180.0, SPREAD_STEP_DEG)
@@ -310,26 +564,41 @@ class Photometry:
             t = (I[j0] - threshold) / (I[j0] - I[j1])
             ends.append(a0 + t * (a1 - a0))
         spread = float(ends[0] - ends[1])
-        return spread if spread <= 360.0 else float("nan")
+        return spread if spread <= MAX_SPREAD_DEG else float("nan")
+
+    def spread_angles(self, fraction: float) -> dict[str, float]:
+        """:meth:`plane_spread` in each main plane pair: {"C0-C180": ..., "C90-C270": ...}
+        (degrees, NaN where not defined)."""
+        return {name: self.plane_spread(fraction, c) for name, c in MAIN_PLANES.items()}
+
+    @property
+    def beam_angles(self) -> dict[str, float]:
+        """Beam angle (degrees, full angle to 50% of the plane's own peak) per main plane."""
+        return self.spread_angles(BEAM_FRACTION)
+
+    @property
+    def field_angles(self) -> dict[str, float]:
+        """Field angle (degrees, full angle to 10% of the plane's own peak) per main plane."""
+        return self.spread_angles(FIELD_FRACTION)
 
     @property
     def beam_angle(self) -> float:
-        """Beam angle (degrees): full angle to 50% of the peak (CIE/IES), the mean of the
-        C0-C180 and C90-C270 planes (each plane relative to its own peak)."""
-        return 0.5 * (self.plane_spread(0.5, 0.0) + self.plane_spread(0.5, 90.0))
+        """Beam angle (degrees): the mean of :attr:`beam_angles` over the C0-C180 and
+        C90-C270 planes; NaN when it is not defined in either."""
+        return float(np.mean(list(self.beam_angles.values())))
 
     @property
     def field_angle(self) -> float:
-        """Field angle (degrees): as :attr:`beam_angle` at 10% of the peak."""
-        return 0.5 * (self.plane_spread(0.1, 0.0) + self.plane_spread(0.1, 90.0))
+        """Field angle (degrees): as :attr:`beam_angle` at 10% of each plane's peak."""
+        return float(np.mean(list(self.field_angles.values())))
 
 
 # -------------------------------------------------------------------- angle conversion
 def type_c_to_b(gamma, c):
     """Type C (gamma, C) -> Type B (H, V), degrees (see the module docstring)."""
     g, c = np.radians(gamma), np.radians(c)
-    aim, up, side = np.cos(g), np.sin(g) * np.cos(c), np.sin(g) * np.sin(c)
-    H = np.degrees(np.arcsin(np.clip(side, -1.0, 1.0)))
+    aim, up, right = np.cos(g), np.sin(g) * np.cos(c), -np.sin(g) * np.sin(c)
+    H = np.degrees(np.arcsin(np.clip(right, -1.0, 1.0)))
     V = np.degrees(np.arctan2(up, aim))
     return H, V
 
@@ -337,9 +606,9 @@ def type_c_to_b(gamma, c):
 def type_b_to_c(H, V):
     """Type B (H, V) -> Type C (gamma, C), degrees, C in [0, 360)."""
     h, v = np.radians(H), np.radians(V)
-    aim, up, side = np.cos(h) * np.cos(v), np.cos(h) * np.sin(v), np.sin(h)
+    aim, up, right = np.cos(h) * np.cos(v), np.cos(h) * np.sin(v), np.sin(h)
     gamma = np.degrees(np.arccos(np.clip(aim, -1.0, 1.0)))
-    c = np.mod(np.degrees(np.arctan2(side, up)), 360.0)
+    c = np.mod(np.degrees(np.arctan2(-right, up)), 360.0)
     return gamma, c
 
 

@@ -79,17 +79,29 @@ local +Y along u (made perpendicular to the aim) and local +X along u x (t - o).
 from u and C = 270 towards it: a downlight aimed at the floor (t below o) with ``up`` along
 the world +X has C = 90 along the world -X.
 
-Type B files (floodlights) follow the conversion of ``spectrace.photometry`` (its module
-``model`` states it): the Type B aiming axis (H = V = 0) is gamma = 0, local +Z, like a Type C
-file's nadir; V > 0 tilts towards C = 0 (local +X) and the polar axis (H = +-90, the axis
-the floodlight tilts about) is C = 90 / 270, local -Y / +Y::
+Type B files (floodlights) follow the convention of ``spectrace.photometry`` (its module
+``model`` derives it from LM-63 and compares it with Radiance's and Cycles' readings): the
+Type B aiming axis (H = V = 0) is gamma = 0, local +Z, like a Type C file's nadir; V (the
+tilt of the B-plane about the polar axis) > 0 turns towards C = 0 (local +X); the polar axis
+(H = +-90, the luminaire's width, the axis the floodlight tilts about) is C = 270 / 90, local
++Y / -Y, and H > 0 (clockwise seen from above the floodlight, to the right seen from
+behind it) turns towards C = 270, local +Y::
 
-    d = (cos H sin V, -sin H, cos H cos V)
-    V = atan2(x, z),    H = atan2(-y, sqrt(x^2 + z^2))
+    seen from behind the floodlight (aim, local +Z, into the page)
+
+                  V = +90, C = 0, local +X
+                        |
+      H = -90 ----------+---------- H = +90
+      C = 90, local -Y  |           C = 270, local +Y
+                        |
+                  V = -90, C = 180
+
+    d = (cos H sin V, sin H, cos H cos V)
+    V = atan2(x, z),    H = atan2(y, sqrt(x^2 + z^2))
 
 A Type B file is looked up in its own angles: bilinear in (H, V) as
-``Photometry.intensity``, mirrored to H < 0 when its horizontal angles start at 0, zero
-outside the measured range.
+``Photometry.intensity``, mirrored to H < 0 when its horizontal angles start at 0 and to
+V < 0 when its vertical angles do, zero outside the measured range.
 
 Emission. The file's intensity I_v(gamma, C) (cd) becomes the radiant intensity::
 
@@ -103,7 +115,8 @@ RGB and mono variants the integral is Y(s) integral V dlambda, Y = 0.2126 R + 0.
 every variant (``spectrace help luminous``).
 
 Light tracing. ``sample_ray`` picks a cell [C_i, C_i+1] x [gamma_j, gamma_j+1] of the
-profile's grid (with Walker's alias table: constant time) with probability proportional to
+profile's grid (``Photometry.angle_grid``; with Mitsuba's ``DiscreteDistribution``) with
+probability proportional to
 w_ij = Omega_ij * (mean of the cell's four corner intensities), Omega_ij = (C_i+1 - C_i)
 (cos gamma_j - cos gamma_j+1) its solid angle, then a direction in the cell from the
 bilinear interpolant of the corners in (C, cos gamma), uniform in solid angle for a constant
@@ -112,6 +125,20 @@ sin H_j), bilinear in (V, sin H)). The ray's weight is I_e(omega) / pdf(omega) w
 exact profile, so ``ptracer`` converges to ``direct`` and a constant profile gives every ray
 the weight 4 pi I_e (as ``pointlight``).
 
+From Python. The plugin reads a file; the light itself takes a ``Photometry`` (its
+``angle_grid``: the table in its own angles, symmetry expanded), a spectrum and a scale. A
+table built or changed in memory (``Photometry(...)``,
+``read_photometry(path).replace(candela=...)``) becomes a light with ``from_photometry``,
+after ``spectrace.set_variant``::
+
+    from spectrace.plugins.emitters import ieslight
+    light = ieslight.from_photometry(photometry, {"luminous_flux": 1200.0,
+                                                  "to_world": mi.ScalarTransform4f()})
+    scene = mi.load_dict({"type": "scene", "light": light, ...})
+
+The parameters are the plugin's, but for ``filename``; a dict value (a spectrum) is loaded
+with ``mi.load_dict`` first.
+
 Sources
 -------
 
@@ -119,10 +146,8 @@ IES (2019), ANSI/IES LM-63-19 *Approved Method: IES Standard File Format for the
 Transfer of Photometric Data and Related Information* (Type C angles, Type B); A. Stockmar
 (1990), EULUMDAT (the ``.ldt`` format); CIE (2019), CIE 018:2019 (K_m = 683 lm/W,
 V(lambda)); Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed.,
-sec. 12.2.3 (goniophotometric diagram lights, sampled by a 2D distribution); Walker (1977),
-"An efficient method for generating discrete random variables with general distributions",
-*ACM TOMS* 3(3); Vose (1991), "A linear algorithm for generating random numbers with a
-given distribution", *IEEE Trans. Software Eng.* 17(9) (the alias table).
+sec. 12.2.3 (goniophotometric diagram lights: a factory reads the file, the light takes
+the distribution, the spectrum and the scale; sampled by a 2D distribution).
 
 Example
 -------
@@ -167,11 +192,12 @@ REGULAR_RTOL = 1e-6
 
 
 def read_profile(filename: str):
-    """The ``Photometry`` of ``filename``, resolved through Mitsuba's file resolver; a missing
-    or bad file raises ``ValueError`` with one line naming the file (and the field)."""
+    """The path and ``Photometry`` of ``filename``, resolved through Mitsuba's file resolver;
+    a missing file raises ``FileAccessError``, a bad one ``FileFormatError``, with one line
+    naming the file (and the field)."""
     from spectrace.photometry import read_photometry
 
-    from spectrace.errors import UserError
+    from spectrace.errors import FileAccessError, FileFormatError, SpectraceError, first_line
 
     resolver = mi.file_resolver()
     path = Path(str(resolver.resolve(filename)))
@@ -184,31 +210,13 @@ def read_profile(filename: str):
             folders = [str(resolver[i]) for i in range(len(resolver))]
             folders = [f for f in folders if Path(f).name != "mitsuba"] or folders
             where = f" (looked in {', '.join(folders)})"
-        raise ValueError(f"{PLUGIN}: parameter 'filename': {what}{where}")
+        raise FileAccessError(f"{PLUGIN}: parameter 'filename': {what}{where}")
     try:
         return path, read_photometry(path)
-    except UserError as error:
-        raise ValueError(f"{PLUGIN}: {one_line(str(error))}") from None
+    except SpectraceError as error:
+        raise type(error)(f"{PLUGIN}: {first_line(error)}") from None
     except (OSError, UnicodeError) as error:
-        raise ValueError(f"{PLUGIN}: {path}: cannot read ({error})") from None
-
-
-def one_line(text: str) -> str:
-    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
-    return "; ".join(lines)
-
-
-def whole_sphere_grid(photometry):
-    """(gamma_deg (n_g,), c_deg (n_c,), candela (n_c, n_g)) of a Type C profile on the whole
-    sphere (``Photometry.type_c_grid``), float64, each axis with at least two angles."""
-    import numpy as np
-
-    gamma, c, candela = (np.asarray(a, dtype=np.float64) for a in photometry.type_c_grid())
-    if gamma.size == 1:
-        gamma, candela = np.array([0.0, 180.0]), np.repeat(candela.reshape(-1, 1), 2, axis=1)
-    if c.size == 1:
-        c, candela = np.array([0.0, 360.0]), np.repeat(candela.reshape(1, -1), 2, axis=0)
-    return gamma, c, candela.reshape(c.size, gamma.size)
+        raise FileFormatError(f"{PLUGIN}: {path}: cannot read ({error})") from None
 
 
 class TypeC:
@@ -247,9 +255,10 @@ class TypeC:
 
 
 class TypeB:
-    """Type B angles: outer angle V (tilt about the polar axis, local -Y), inner angle H
-    (towards the polar axis); aim local +Z, V > 0 towards local +X; the solid angle is
-    dV d(sin H); the table covers the file's measured range, zero outside."""
+    """Type B angles: outer angle V (tilt about the polar axis, local Y), inner angle H
+    (towards the polar axis, H > 0 towards local +Y); aim local +Z, V > 0 towards local +X;
+    the solid angle is dV d(sin H); the table covers the file's measured range (and its
+    mirror images), zero outside."""
 
     bounded = True
 
@@ -257,7 +266,7 @@ class TypeB:
     def angles(d):
         """(V, H) in degrees of a local direction (any length)."""
         V = dr.atan2(d.x, d.z) * (180.0 / math.pi)
-        H = dr.atan2(-d.y, dr.sqrt(dr.square(d.x) + dr.square(d.z))) * (180.0 / math.pi)
+        H = dr.atan2(d.y, dr.sqrt(dr.square(d.x) + dr.square(d.z))) * (180.0 / math.pi)
         return V, H
 
     @staticmethod
@@ -268,33 +277,19 @@ class TypeB:
 
     @staticmethod
     def measure_of(d):
-        return -d.y / dr.norm(d)
+        return d.y / dr.norm(d)
 
     @staticmethod
     def direction(v_rad, m):
         """The unit local direction at V (radians) and sin(H) = m, and H in degrees."""
         cos_h = dr.sqrt(dr.maximum(1.0 - dr.square(m), 0.0))
         sin_v, cos_v = dr.sincos(v_rad)
-        return mi.Vector3f(cos_h * sin_v, -m, cos_h * cos_v), \
+        return mi.Vector3f(cos_h * sin_v, m, cos_h * cos_v), \
             dr.atan2(m, cos_h) * (180.0 / math.pi)
 
 
-def profile_grid(photometry):
-    """(angle system, outer angles (n_o,), inner angles (n_i,), candela (n_o, n_i)) in
-    degrees and cd, float64: Type C on the whole sphere (C, gamma); Type B in the file's own
-    (V, H), mirrored to negative H for a laterally symmetric file (H from 0)."""
-    import numpy as np
-
-    if photometry.photometric_type != "B":
-        gamma, c, candela = whole_sphere_grid(photometry)
-        return TypeC, c, gamma, candela
-    h = np.asarray(photometry.horizontal_angles, dtype=np.float64)
-    v = np.asarray(photometry.vertical_angles, dtype=np.float64)
-    candela = np.asarray(photometry.candela, dtype=np.float64).reshape(h.size, v.size)
-    if photometry.symmetry == "bilateral_0_180":  # I(-H, V) = I(H, V)
-        h = np.concatenate([-h[:0:-1], h])
-        candela = np.concatenate([candela[:0:-1], candela])
-    return TypeB, v, h, candela.T
+#: ``AngleGrid.system`` -> the Dr.Jit angle functions of that system.
+SYSTEMS = {"C": TypeC, "B": TypeB}
 
 
 def cell_weights(outer_deg, inner_deg, candela, system):
@@ -306,29 +301,6 @@ def cell_weights(outer_deg, inner_deg, candela, system):
     omega = np.radians(np.diff(outer_deg))[:, None] * np.diff(m)[None, :]
     corners = candela[:-1, :-1] + candela[1:, :-1] + candela[:-1, 1:] + candela[1:, 1:]
     return omega, omega * 0.25 * corners
-
-
-def alias_table(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Walker's alias table of a discrete distribution (Vose's construction): (pmf,
-    probability, alias) so that bucket i = floor(u n) keeps i with the probability
-    ``probability[i]`` and otherwise gives ``alias[i]``; every index then comes out with
-    probability pmf (weights / their sum)."""
-    import numpy as np
-
-    pmf = np.asarray(weights, dtype=np.float64).ravel()
-    pmf = pmf / pmf.sum()
-    n = pmf.size
-    scaled = pmf * n
-    probability = np.ones(n)
-    alias = np.arange(n)
-    small = [i for i in range(n) if scaled[i] < 1.0]
-    large = [i for i in range(n) if scaled[i] >= 1.0]
-    while small and large:
-        s, g = small.pop(), large.pop()
-        probability[s], alias[s] = scaled[s], g
-        scaled[g] -= 1.0 - scaled[s]
-        (small if scaled[g] < 1.0 else large).append(g)
-    return pmf, probability, alias  # the leftovers keep probability 1 (rounding)
 
 
 class Axis:
@@ -371,17 +343,27 @@ class Axis:
 class IESLight(delta.DeltaLight):
     """A luminaire of a photometric file: I_v(gamma, C) times the lamp's spectrum."""
 
-    def __init__(self, props):
+    def __init__(self, props, photometry=None):
+        """The plugin's factory: ``props`` are the XML parameters; ``photometry`` (a
+        ``spectrace.photometry.Photometry``, see ``from_photometry``) replaces ``filename``."""
+        from spectrace.errors import ParameterError
+
         mi.Emitter.__init__(self, props)
         for name, advice in REFUSED.items():
             if name in props:
-                raise ValueError(f"{PLUGIN}: parameter '{name}' does not apply ({advice})")
+                raise ParameterError(f"{PLUGIN}: parameter '{name}' does not apply ({advice})")
         self.plugin_name = PLUGIN
-        if "filename" not in props:
-            raise ValueError(f"{PLUGIN}: parameter 'filename' is required (an .ies or .ldt "
-                             "photometric file)")
-        self.filename = params.read_string(props, PLUGIN, "filename", params.REQUIRED)
-        self.path, self.photometry = read_profile(self.filename)
+        if photometry is not None:
+            if "filename" in props:
+                raise ParameterError(f"{PLUGIN}: parameter 'filename' does not apply to a "
+                                     "light built from a Photometry")
+            self.filename, self.path, self.photometry = None, photometry.path, photometry
+        elif "filename" not in props:
+            raise ParameterError(f"{PLUGIN}: parameter 'filename' is required (an .ies or "
+                                 ".ldt photometric file)")
+        else:
+            self.filename = params.read_string(props, PLUGIN, "filename", params.REQUIRED)
+            self.path, self.photometry = read_profile(self.filename)
         self.to_world = falloff.parse_to_world(props)
         self.intensity = params.read_spectrum(props, PLUGIN, "spectrum", 1.0)
         luminous.check_luminous_content(self.intensity, PLUGIN, "spectrum")
@@ -393,7 +375,7 @@ class IESLight(delta.DeltaLight):
             value = params.read_float(props, PLUGIN, "luminous_flux", None, minimum=0.0,
                                       finite=True)
             if not self.file_flux > 0.0:
-                raise ValueError(
+                raise ParameterError(
                     f"{PLUGIN}: parameter 'luminous_flux' cannot rescale {self.path}: its "
                     f"profile emits no light (flux {self.file_flux:g} lm)"
                 )
@@ -411,12 +393,18 @@ class IESLight(delta.DeltaLight):
         """The profile's table, its axes and the distribution of ``sample_ray`` over cells."""
         import numpy as np
 
-        system, outer, inner, candela = profile_grid(self.photometry)
-        if outer.size < 2 or inner.size < 2:
-            raise ValueError(f"{PLUGIN}: {self.path}: a Type B profile needs two angles or "
-                             "more in each direction (it covers no solid angle)")
-        if not (np.all(np.isfinite(candela)) and np.all(candela >= 0.0)):
-            raise ValueError(f"{PLUGIN}: {self.path}: candela values must be finite and >= 0")
+        from spectrace.errors import FileFormatError
+
+        try:
+            grid = self.photometry.angle_grid()
+        except ValueError as error:
+            raise FileFormatError(f"{PLUGIN}: {error}") from None
+        system, outer, inner, candela = SYSTEMS[grid.system], grid.outer, grid.inner, \
+            grid.candela
+        if not (np.all(np.isfinite(candela)) and np.all(candela >= 0.0)
+                and candela.max() <= np.finfo(np.float32).max):
+            raise FileFormatError(f"{PLUGIN}: {self.path}: candela values must be finite, "
+                                  ">= 0 and within single precision")
         self.system = system
         self.n_inner = inner.size
         self.outer_axis, self.inner_axis = Axis(outer), Axis(inner)
@@ -428,14 +416,11 @@ class IESLight(delta.DeltaLight):
         self.outer_rad = mi.Float(np.radians(outer).astype(np.float32))
         omega, weights = cell_weights(outer, inner, candela, system)
         if not float(weights.sum()) > 0.0:
-            raise ValueError(f"{PLUGIN}: {self.path}: the profile emits no light (every "
-                             "candela value is 0)")
+            raise FileFormatError(f"{PLUGIN}: {self.path}: the profile emits no light (every "
+                                  "candela value is 0)")
         self.cell_omega = mi.Float(omega.astype(np.float32).ravel())  # i_o * (n_i - 1) + i_i
-        pmf, probability, alias = alias_table(weights)
-        self.n_cells = pmf.size
-        self.cell_pmf = mi.Float(pmf.astype(np.float32))
-        self.alias_probability = mi.Float(probability.astype(np.float32))
-        self.alias = mi.UInt32(alias.astype(np.uint32))
+        # the cell distribution; its CDF is summed in double precision by Mitsuba
+        self.cells = mi.DiscreteDistribution(weights.astype(np.float32).ravel())
 
     def _corners(self, io, ii):
         """The candela values at the four corners of cell (io, ii): (outer_i, inner_j),
@@ -486,26 +471,17 @@ class IESLight(delta.DeltaLight):
         inv_mean = dr.select(mean > 0.0, dr.rcp(mean), 0.0)
         bilinear = dr.lerp(dr.lerp(v00, v10, to), dr.lerp(v01, v11, to), y) * inv_mean
         omega = dr.gather(mi.Float, self.cell_omega, cell)
-        pmf = dr.gather(mi.Float, self.cell_pmf, cell)
+        pmf = self.cells.eval_pmf_normalized(cell)
         valid = omega > 0.0
         if self.system.bounded:
             valid &= self._inside(outer, inner)
         return dr.select(valid, pmf * bilinear / dr.maximum(omega, 1e-30), 0.0)
 
     def _sample_cell(self, u):
-        """A cell drawn with the alias table from the uniform ``u``: its flat index, ``u``
-        made uniform again for reuse, and the cell's probability."""
-        u = u * self.n_cells
-        bucket = dr.minimum(dr.floor(u), self.n_cells - 1.0)
-        fraction = u - bucket
-        bucket = mi.UInt32(bucket)
-        keep = dr.gather(mi.Float, self.alias_probability, bucket)
-        accept = fraction < keep
-        index = dr.select(accept, bucket, dr.gather(mi.UInt32, self.alias, bucket))
-        reused = dr.select(accept, fraction / dr.maximum(keep, 1e-30),
-                           (fraction - keep) / dr.maximum(1.0 - keep, 1e-30))
-        reused = dr.clip(reused, 0.0, dr.one_minus_epsilon(mi.Float))
-        return index, reused, dr.gather(mi.Float, self.cell_pmf, index)
+        """A cell drawn from the uniform ``u`` (Mitsuba's ``DiscreteDistribution``): its flat
+        index, ``u`` made uniform again for reuse, and the cell's probability."""
+        index, reused, pmf = self.cells.sample_reuse_pmf(u)
+        return index, dr.clip(reused, 0.0, dr.one_minus_epsilon(mi.Float)), pmf
 
     def _sample_local_direction(self, sample):
         """A local direction drawn from the cell distribution, and I_v / pdf (cd sr)."""
@@ -599,6 +575,16 @@ class IESLight(delta.DeltaLight):
             f"to_world={self.to_world}, scale={float(dr.slice(dr.detach(self.scale_value))):g}"
             f"{flux}, spectrum={self.intensity}, falloff={self.law!r}]"
         )
+
+
+def from_photometry(photometry, parameters: dict | None = None) -> IESLight:
+    """An ``ieslight`` of an in-memory ``Photometry`` (for the active variant): the
+    plugin's parameters but ``filename`` in ``parameters`` (a dict value, such as a
+    spectrum, is loaded with ``mi.load_dict``)."""
+    props = mi.Properties(PLUGIN)
+    for name, value in (parameters or {}).items():
+        props[name] = mi.load_dict(value) if isinstance(value, dict) else value
+    return IESLight(props, photometry=photometry)
 
 
 mi.register_emitter(PLUGIN, lambda props: IESLight(props))

@@ -222,12 +222,20 @@ def watts_per_lumen_dr(texture) -> mi.Float:
 
 
 def luminous_efficacy(texture) -> float:
-    """K = K_m integral V s / integral s (lm/W) of a spectrum (spectral variants only)."""
+    """K = K_m integral V s / integral s (lm/W) of a spectrum (spectral variants only):
+    colour-science's ``luminous_efficacy`` of the spectrum evaluated on the 1 nm grid (the
+    same V(lambda), K_m = its ``CONSTANT_K_M`` = KM; trapezoidal integrals).
+    colour-science is imported here, when the function is called: the renderer's own
+    conversion (:func:`watts_per_lumen_dr`) stays in Dr.Jit, where it is differentiable
+    with respect to the spectrum."""
+    import colour
     import numpy as np
 
+    from spectrace.errors import ParameterError
+
     if not mi.is_spectral:
-        raise ValueError("the luminous efficacy of a spectrum needs a spectral variant")
-    values = evaluate_on_grid(texture)
-    # trapezoidal rule: s need not vanish at the ends of the range, unlike V
-    integral = float(np.sum(values) - 0.5 * (values[0] + values[-1]))
-    return KM * photometric_integral(texture) / integral
+        raise ParameterError("luminous_efficacy: the luminous efficacy of a spectrum needs a "
+                             "spectral variant")
+    wavelengths = np.arange(GRID_NM[0], GRID_NM[1] + 1, dtype=np.float64)
+    sd = colour.SpectralDistribution(evaluate_on_grid(texture), wavelengths)
+    return float(colour.luminous_efficacy(sd, colour.colorimetry.SDS_LEFS_PHOTOPIC[PHOTOPIC]))

@@ -3,8 +3,11 @@
 Prints the manufacturer, luminaire and lamp keywords, the format, photometric type and
 symmetry, the angle counts and ranges, the luminous flux (lm, the intensity integrated
 over the sphere) and its downward share (gamma <= 90), the peak intensity and its
-direction (Type C gamma and C), and the beam and field angles (full angles to 50% and
-10% of the peak, the mean of the C0-C180 and C90-C270 planes). The numbers come from
+direction (Type C gamma and C), the beam and field angles in the C0-C180 and C90-C270
+planes (full angles to 50% and 10% of each plane's own peak; "not defined" where the
+intensity never falls that far or the arc would exceed 180 degrees), and the luminous
+opening (its shape and size, and the photometric distance, 5 times its largest
+dimension, from which the luminaire may be taken as a point). The numbers come from
 :class:`spectrace.photometry.Photometry`. ``--plot OUT.png`` draws the polar candela
 diagram of the C0-C180 and C90-C270 planes as datasheets do (nadir at the bottom, C0 and
 C90 to the right, C180 and C270 to the left; written atomically). A missing or malformed
@@ -18,7 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileFormatError, UsageError
+
+#: The polar plot's title: at most this many characters a line and this many lines of
+#: the luminaire's name (longer names are cut with an ellipsis), so that it fits the figure.
+TITLE_WIDTH = 48
+TITLE_LINES = 2
 
 
 def add_arguments(parser) -> None:
@@ -31,7 +39,7 @@ def run(args) -> int:
     from spectrace.photometry import read_photometry
 
     if args.plot and Path(args.plot).suffix.lower() != ".png":
-        raise UserError(f"--plot {args.plot}: must end in .png")
+        raise UsageError(f"--plot {args.plot}: must end in .png")
     ph = read_photometry(args.file)  # before check_writable makes the plot's folder
     if args.plot:
         from spectrace.images import check_writable
@@ -54,7 +62,27 @@ def _one_line(text: str) -> str:
 
 
 def _angle(x: float) -> str:
-    return "n/a" if math.isnan(x) else f"{x:.1f} deg"
+    return "not defined" if math.isnan(x) else f"{x:.1f} deg"
+
+
+def _planes(angles: dict[str, float]) -> str:
+    return ", ".join(f"{plane} {_angle(value)}" for plane, value in angles.items())
+
+
+def _opening(ph) -> str:
+    try:
+        o = ph.opening
+    except FileFormatError as error:
+        return str(error).removeprefix(f"{ph.path}: ").removeprefix("luminous opening: ")
+    if o.shape == "point":
+        return "point (no luminous size given)"
+    if o.shape in ("disk", "sphere", "vertical_cylinder"):
+        size = f"diameter {o.width:.3g} m" + (f", height {o.height:.3g} m"
+                                               if o.shape == "vertical_cylinder" else "")
+    else:
+        size = f"width {o.width:.3g} m, length {o.length:.3g} m, height {o.height:.3g} m"
+    return (f"{o.shape}, {size}; photometric distance {o.photometric_distance:.3g} m "
+            f"(5 x {o.largest_dimension:.3g} m)")
 
 
 def describe(ph) -> list[str]:
@@ -78,8 +106,9 @@ def describe(ph) -> list[str]:
     rows.append(("flux", f"{ph.flux:.1f} lm, {down:.1f}% downward ({basis})"))
     gamma, c = ph.peak_direction
     rows.append(("peak", f"{ph.max_candela:.1f} cd at gamma {gamma:g}, C {c:g}"))
-    rows.append(("beam", f"{_angle(ph.beam_angle)} (50% of peak), field {_angle(ph.field_angle)}"
-                         " (10%); mean of the C0-C180 and C90-C270 planes"))
+    rows.append(("beam", f"{_planes(ph.beam_angles)} (50% of each plane's peak)"))
+    rows.append(("field", f"{_planes(ph.field_angles)} (10%)"))
+    rows.append(("opening", _opening(ph)))
     return [f"{label:<11}{text}" for label, text in rows]
 
 
@@ -115,8 +144,8 @@ def plot_polar(path, ph) -> Path:
     ax.set_rlim(0, ticks[-1])
     labels = [f"{t:g}" for t in ticks[:-1]] + [f"{ticks[-1]:g} cd"]
     ax.set_rgrids(ticks, labels, angle=100, fontsize=8)
-    title = _one_line(ph.keywords.get("LUMINAIRE", "") or ph.path.name)
-    ax.set_title(f"{title}\n{ph.flux:.0f} lm, peak {ph.max_candela:.0f} cd", fontsize=10)
+    ax.set_title(f"{plot_title(ph)}\n{ph.flux:.0f} lm, peak {ph.max_candela:.0f} cd",
+                 fontsize=10)
     ax.legend(loc="lower left", bbox_to_anchor=(-0.12, -0.12), fontsize=8, frameon=False)
     path = Path(path)
     try:
@@ -125,6 +154,16 @@ def plot_polar(path, ph) -> Path:
     finally:
         plt.close(fig)
     return path
+
+
+def plot_title(ph) -> str:
+    """The luminaire's name (or the file's) wrapped to TITLE_WIDTH characters a line, at
+    most TITLE_LINES lines, the rest cut with an ellipsis."""
+    import textwrap
+
+    name = _one_line(ph.keywords.get("LUMINAIRE", "") or ph.path.name)
+    return "\n".join(textwrap.wrap(name, TITLE_WIDTH, max_lines=TITLE_LINES,
+                                    placeholder=" ...", break_long_words=True))
 
 
 def _nice_ticks(top: float) -> list[float]:

@@ -44,9 +44,45 @@ def test_report_of_a_cos_power_downlight(capsys, downlight):
     assert numbers(out, "angles")[:1] == [181]
     assert numbers(out, "flux")[0] == pytest.approx(2 * np.pi * I0 / (N + 1), rel=FLUX_RTOL)
     assert numbers(out, "peak")[:3] == pytest.approx([I0, 0.0, 0.0])
-    beam, _, field = numbers(out, "beam")[:3]
-    assert beam == pytest.approx(2 * np.degrees(np.arccos(0.5 ** (1 / N))), abs=ANGLE_ATOL)
-    assert field == pytest.approx(2 * np.degrees(np.arccos(0.1 ** (1 / N))), abs=ANGLE_ATOL)
+    beam = 2 * np.degrees(np.arccos(0.5 ** (1 / N)))
+    field = 2 * np.degrees(np.arccos(0.1 ** (1 / N)))
+    # "C0-C180 X deg, C90-C270 Y deg": the numbers 0, 180, X, 90, 270, Y
+    assert numbers(out, "beam")[2::3][:2] == pytest.approx([beam] * 2, abs=ANGLE_ATOL)
+    assert numbers(out, "field")[2::3][:2] == pytest.approx([field] * 2, abs=ANGLE_ATOL)
+    assert "opening    point" in out
+
+
+def test_wide_beam_is_not_defined(capsys, tmp_path):
+    """An isotropic source has no beam or field angle in either plane: "not defined", not a
+    number wider than a half-plane."""
+    path = G.write_ies_function(tmp_path / "iso.ies", G.isotropic(50.0))
+    rc, out, err = run(capsys, str(path))
+    assert rc == 0, err
+    beam = next(line for line in out.splitlines() if line.startswith("beam"))
+    assert beam.count("not defined") == 2 and "deg" not in beam
+
+
+def test_opening_and_photometric_distance(capsys, tmp_path):
+    """A 2002 file with width = length = -0.2 m (a disk of 0.2 m) and one in feet with a
+    box of 2 x 4 x 0.5 ft: the shape, the size in metres, the photometric distance 5x the
+    largest dimension (1 m; 5 x 1.2192 m); an opening no edition knows is said so."""
+    disk = G.write_ies_function(tmp_path / "disk.ies", G.cos_power(100.0, 2),
+                                opening=(-0.2, -0.2, 0.0))
+    rc, out, err = run(capsys, str(disk))
+    assert rc == 0, err
+    line = next(line for line in out.splitlines() if line.startswith("opening"))
+    assert "disk" in line and "photometric distance 1 m" in line
+    box = G.write_ies_function(tmp_path / "box.ies", G.cos_power(100.0, 2), units=1,
+                               opening=(2.0, 4.0, 0.5))
+    rc, out, err = run(capsys, str(box))
+    line = next(line for line in out.splitlines() if line.startswith("opening"))
+    assert "box, width 0.61 m, length 1.22 m, height 0.152 m" in line
+    assert "photometric distance 6.1 m" in line
+    bad = G.write_ies_function(tmp_path / "bad.ies", G.cos_power(100.0, 2),
+                               opening=(0.3, -0.2, 0.0))
+    rc, out, err = run(capsys, str(bad))
+    assert rc == 0, err
+    assert "is no shape of LM-63-2002" in out
 
 
 def test_plot_is_written(capsys, downlight, tmp_path):
@@ -56,6 +92,32 @@ def test_plot_is_written(capsys, downlight, tmp_path):
     assert rc == 0, err
     assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert [p.name for p in out_png.parent.iterdir()] == ["polar.png"]
+
+
+def test_long_luminaire_name_stays_inside_the_plot(capsys, tmp_path, monkeypatch):
+    """A [LUMINAIRE] text of 300 characters: the polar plot's title is wrapped and cut so
+    that it lies inside the figure (it ran off both sides)."""
+    import matplotlib.pyplot as plt
+
+    name = "Linear LED luminaire with opal diffuser " * 8
+    path = G.write_ies_function(tmp_path / "long.ies", G.cos_power(100.0, 2),
+                                keywords={"LUMINAIRE": name})
+    seen = []
+    close = plt.close
+
+    def measure_then_close(fig):  # the title's extent in the saved figure, in pixels
+        title = fig.axes[0].title
+        seen.append((title.get_window_extent(fig.canvas.get_renderer()), fig.bbox,
+                     title.get_text()))
+        close(fig)
+
+    monkeypatch.setattr(plt, "close", measure_then_close)
+    rc, out, err = run(capsys, str(path), "--plot", str(tmp_path / "p.png"))
+    assert rc == 0, err
+    box, frame, text = seen[0]
+    assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0
+    assert box.y1 <= frame.y1
+    assert text.endswith(" lm, peak 100 cd") and "..." in text
 
 
 def test_bad_file_exits_2_with_one_line(capsys, tmp_path):

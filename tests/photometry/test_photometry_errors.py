@@ -150,6 +150,17 @@ def test_factors_that_overflow_are_refused(tmp_path):
     assert_error(ldt, "candela values", "overflow")
 
 
+def test_absurd_but_finite_intensities_are_refused(tmp_path):
+    """Candela multiplier 1e300 on a 100 cd table is finite (1e302 cd) but no luminaire: it
+    was accepted and printed a 300-digit flux; now refused with the value and the bound."""
+    h = np.array([0.0])
+    path = G.write_ies(tmp_path / "huge.ies", GAMMA, h, np.full((1, GAMMA.size), 100.0),
+                       multiplier=1e300, newline="\n")
+    assert_error(path, "candela values", "1e+302 cd", "beyond any luminaire")
+    ok = G.write_ies(tmp_path / "bright.ies", GAMMA, h, np.full((1, GAMMA.size), 1e9))
+    assert read_photometry(ok).max_candela == 1e9  # a searchlight's billion candela reads
+
+
 def test_ldt_with_doubled_carriage_returns_reads(tmp_path):
     """A EULUMDAT file whose CRLF line ends were converted once more ("\\r\\r\\n", a
     text-mode transfer) reads as the original, not as blank lines between the fields."""

@@ -136,3 +136,60 @@ def test_uplight_beam_angle_through_the_zenith(tmp_path):
     assert ph.flux_between(0.0, 90.0) == 0.0
     assert ph.beam_angle == pytest.approx(2 * np.degrees(np.arccos(0.5 ** (1 / n))),
                                           abs=ANGLE_ATOL_DEG)
+
+
+def cardioid(I0: float, k: float):
+    """I0 ((1 + cos gamma) / 2)^k: falls to the fraction f of its peak at
+    cos gamma = 2 f^(1/k) - 1, so its full spread is 2 arccos(2 f^(1/k) - 1)."""
+
+    def intensity(gamma, c):
+        g = np.radians(np.asarray(gamma, np.float64))
+        return I0 * ((1.0 + np.cos(g)) / 2.0) ** k + 0.0 * np.asarray(c)
+
+    return intensity
+
+
+def test_beam_and_field_per_plane_of_cos_powers(tmp_path):
+    """cos^m beams in each main plane: beam 2 arccos(0.5^(1/m)), field 2 arccos(0.1^(1/m));
+    a distribution cos^m in C0-C180 and cos^n in C90-C270 (I = I0 (cos gamma)^(m cos^2 C +
+    n sin^2 C)) has the two planes' own angles."""
+    m, n = 2.0, 20.0
+    g = np.arange(0.0, 180.001, 0.25)
+
+    def elliptic(gamma, c):
+        e = m * np.cos(np.radians(c)) ** 2 + n * np.sin(np.radians(c)) ** 2
+        cg = np.cos(np.radians(gamma))
+        return np.where(cg > 0, 1000.0 * np.abs(cg) ** e, 0.0)
+
+    ph = read_photometry(G.write_ies_function(tmp_path / "e.ies", elliptic, symmetry="quadrant",
+                                              vertical_angles=g, c_step=5.0))
+    for fraction, angles in ((0.5, ph.beam_angles), (0.1, ph.field_angles)):
+        for plane, power in (("C0-C180", m), ("C90-C270", n)):
+            expected = 2 * np.degrees(np.arccos(fraction ** (1 / power)))
+            assert angles[plane] == pytest.approx(expected, abs=ANGLE_ATOL_DEG), plane
+
+
+def test_wide_distributions_have_no_beam_beyond_a_half_plane(tmp_path):
+    """A cardioid ((1 + cos gamma) / 2)^4 has beam 2 arccos(2 0.5^(1/4) - 1) = 94.0 deg and
+    field 2 arccos(2 0.1^(1/4) - 1) = 159.6 deg; ((1 + cos gamma) / 2)^0.5 would have
+    beam 240 deg and field 337 deg, arcs wider than 180 deg: not defined (NaN); an
+    isotropic source never falls: not defined; a Lambertian troffer (cos gamma, nothing
+    upwards) has beam 120 deg and field 2 arccos(0.1) = 168.5 deg."""
+    g = np.arange(0.0, 180.001, 0.25)
+    narrow = read_photometry(G.write_ies_function(tmp_path / "c4.ies", cardioid(500.0, 4.0),
+                                                  vertical_angles=g))
+    for angles, fraction in ((narrow.beam_angles, 0.5), (narrow.field_angles, 0.1)):
+        expected = 2 * np.degrees(np.arccos(2 * fraction ** 0.25 - 1))
+        assert list(angles.values()) == pytest.approx([expected] * 2, abs=ANGLE_ATOL_DEG)
+    assert 2 * np.degrees(np.arccos(2 * 0.5 ** 0.25 - 1)) == pytest.approx(94.0, abs=0.05)
+    wide = read_photometry(G.write_ies_function(tmp_path / "c05.ies", cardioid(500.0, 0.5),
+                                                vertical_angles=g))
+    assert np.isnan(list(wide.beam_angles.values())).all() and np.isnan(wide.beam_angle)
+    assert np.isnan(wide.field_angle)
+    iso = read_photometry(G.write_ies_function(tmp_path / "iso.ies", G.isotropic(10.0)))
+    assert np.isnan(iso.beam_angle) and np.isnan(iso.field_angle)
+    troffer = read_photometry(G.write_ies_function(tmp_path / "t.ies", G.cos_power(800.0, 1),
+                                                   vertical_angles=g))
+    assert troffer.beam_angle == pytest.approx(120.0, abs=ANGLE_ATOL_DEG)
+    assert troffer.field_angle == pytest.approx(2 * np.degrees(np.arccos(0.1)),
+                                                abs=ANGLE_ATOL_DEG)

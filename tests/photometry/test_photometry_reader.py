@@ -212,9 +212,10 @@ def test_type_c_grid_reproduces_intensity(tmp_path, rng):
 
 def test_type_b_angles_map_to_type_c_as_documented(tmp_path):
     """Type B (H, V) = (0, 0) is the aim (gamma 0), (0, 30) is (gamma 30, C 0), (30, 0) is
-    (30, C 90), (-30, 0) is (30, C 270); a file bright only at (H, V) = (20, 10) is bright
-    in the Type C direction of that point and nowhere far from it."""
-    for (h, v), (g, c) in {(0, 30): (30, 0), (30, 0): (30, 90), (-30, 0): (30, 270),
+    (30, C 270) (H > 0 clockwise seen from above, LM-63), (-30, 0) is (30, C 90); a file
+    bright only at (H, V) = (20, 10) is bright in the Type C direction of that point and
+    nowhere far from it."""
+    for (h, v), (g, c) in {(0, 30): (30, 0), (30, 0): (30, 270), (-30, 0): (30, 90),
                            (0, -30): (30, 180)}.items():
         assert np.allclose(type_b_to_c(h, v), (g, c), atol=ANGLE_ATOL)
         assert np.allclose(type_c_to_b(g, c), (h, v), atol=ANGLE_ATOL)
@@ -243,6 +244,47 @@ def test_type_b_lateral_symmetry(tmp_path):
     gm, cm = type_b_to_c(-30.0, 15.0)
     assert ph.intensity(g, c) == pytest.approx(ph.intensity(gm, cm))
     assert ph.intensity(g, c) > 0
+
+
+def type_b_steps_file(tmp_path, vertical):
+    """A strongly asymmetric Type B table: constant on each quadrant of the (H, V) square,
+    with steps of a tenth of a degree at H = 0 and V = 0 (I = 100 for H < 0, V < 0; 200
+    for H < 0, V > 0; 400 for H > 0, V < 0; 800 for H > 0, V > 0), or, with ``vertical``
+    from 0, the V >= 0 half (200 and 800) of it."""
+    H = np.array([-90.0, -0.1, 0.1, 90.0])
+    V = np.asarray(vertical, float)
+    table = np.array([[100.0 if v < 0 else 200.0 for v in V]] * 2
+                     + [[400.0 if v < 0 else 800.0 for v in V]] * 2)
+    return read_photometry(G.write_ies(tmp_path / "steps.ies", V, H, table,
+                                       photometric_type="B"))
+
+
+def test_type_b_convention_by_hand(tmp_path):
+    """Derived by hand from LM-63's definition (H clockwise seen from above the floodlight,
+    V up towards the photometric horizontal C = 0, H measured inside the tilted B-plane):
+    the unit direction d = (cos H sin V, sin H, cos H cos V) in the frame (C = 0, C = 270,
+    gamma = 0). Then gamma 60 at C = 45 is d = (0.6124, -0.6124, 0.5): sin H = -0.6124,
+    H = -37.76 < 0, V = atan(0.6124 / 0.5) = 50.77 > 0: 200 cd. At C = 315 the mirror
+    image, H > 0, V > 0: 800 cd; at C = 135 (H < 0, V < 0) 100 cd; at C = 225 400 cd.
+    The grid values at (H, V) = (40, 50) sit at gamma = acos(cos 40 cos 50) = 60.50 deg and
+    C = atan2(-sin 40, cos 40 sin 50) = 312.39 deg. A table whose vertical angles start at
+    0 is mirrored about the horizontal plane V = 0: 200 cd at C = 135, 800 cd at C = 225."""
+    ph = type_b_steps_file(tmp_path, [-90.0, -0.1, 0.1, 90.0])
+    assert ph.symmetry == "none"
+    expected = {45.0: 200.0, 315.0: 800.0, 135.0: 100.0, 225.0: 400.0}
+    for c, candela in expected.items():
+        assert ph.intensity(60.0, c) == pytest.approx(candela, rel=1e-12), c
+    h, v = np.radians(40.0), np.radians(50.0)
+    gamma = np.degrees(np.arccos(np.cos(h) * np.cos(v)))
+    c = np.degrees(np.arctan2(-np.sin(h), np.cos(h) * np.sin(v))) % 360.0
+    assert (gamma, c) == pytest.approx((60.50, 312.39), abs=0.01)
+    assert ph.intensity(gamma, c) == pytest.approx(800.0)
+    assert ph.flux == pytest.approx(2 * np.pi * (100 + 200 + 400 + 800) / 4, rel=2e-3)
+    half = type_b_steps_file(tmp_path, [0.0, 90.0])
+    assert half.symmetry == "bilateral_90_270"
+    for c, candela in {45.0: 200.0, 135.0: 200.0, 225.0: 800.0, 315.0: 800.0}.items():
+        assert half.intensity(60.0, c) == pytest.approx(candela, rel=1e-12), c
+    assert half.flux == pytest.approx(2 * np.pi * (200 + 800) / 2, rel=1e-12)
 
 
 HAND_WRITTEN = """IESNA:LM-63-1995\r

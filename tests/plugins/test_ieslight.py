@@ -68,13 +68,14 @@ def wall_washer_file(tmp_path):
 #: from -90: no symmetry).
 TYPE_B_V = [-90.0, -60.0, -30.0, -10.0, 0.0, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 90.0]
 TYPE_B_H = {"B": [0.0, 5.0, 10.0, 20.0, 40.0, 60.0, 90.0],
-            "B_full": [-90.0, -50.0, -20.0, -5.0, 0.0, 10.0, 30.0, 60.0, 90.0]}
+            "B_full": [-90.0, -50.0, -20.0, -5.0, 0.0, 10.0, 30.0, 60.0, 90.0],
+            "B_quadrant": [0.0, 5.0, 10.0, 20.0, 40.0, 60.0, 90.0]}
 
 
 def profile_file(tmp_path, kind: str) -> str:
     """An asymmetric profile written as Type C ("C": ``wall_washer_file``) or Type B ("B": the
     same wall-washer, laterally symmetric, H from 0; "B_full": the wall-washer turned towards
-    C = 90, H from -90 to 90)."""
+    C = 90, H from -90 to 90; "B_quadrant": H and V from 0, mirrored in both)."""
     from spectrace.photometry import generate
 
     if kind == "C":
@@ -82,8 +83,9 @@ def profile_file(tmp_path, kind: str) -> str:
     washer = generate.wall_washer(800.0)
     func = washer if kind == "B" else (lambda gamma, c: washer(gamma, np.asarray(c) - 90.0))
     h = TYPE_B_H[kind]
-    table = generate.tabulate(func, TYPE_B_V, h, photometric_type="B")
-    return str(generate.write_ies(tmp_path / f"{kind}.ies", TYPE_B_V, h, table,
+    v = [x for x in TYPE_B_V if x >= 0] if kind == "B_quadrant" else TYPE_B_V
+    table = generate.tabulate(func, v, h, photometric_type="B")
+    return str(generate.write_ies(tmp_path / f"{kind}.ies", v, h, table,
                                   photometric_type="B"))
 
 
@@ -133,7 +135,7 @@ WHITE = {"type": "rgb", "value": [1.0, 1.0, 1.0]}
 
 # -- frame and lookup -------------------------------------------------------------------
 
-@pytest.mark.parametrize("kind", ["C", "B", "B_full"])
+@pytest.mark.parametrize("kind", ["C", "B", "B_full", "B_quadrant"])
 def test_lookup_matches_photometry_intensity(variant_rgb, tmp_path, rng, kind):
     """The emitted intensity in a direction at (gamma, C) of the local frame is WATTS_PER_CD
     W/sr per cd of ``Photometry.intensity(gamma, C)`` (bilinear on the file's irregular angles:
@@ -170,23 +172,54 @@ def test_frame_c90_is_local_minus_y(variant_rgb, tmp_path):
         assert lum[side > 0.0].sum() == 0.0, up
 
 
-def test_type_b_aim_is_local_z_and_v_towards_local_x(variant_rgb, tmp_path):
-    """A Type B file's aiming axis (H = V = 0) is local +Z, its V > 0 half is local +X (C = 0,
-    ``up`` x aim with lookat): a floodlight that emits only for V in [10, 60] degrees,
-    aimed down with ``up`` = world +Z, lights the floor on the world +X side only."""
+@pytest.mark.parametrize(("angle", "world_axis"), [("V", 0), ("H", 2)])
+def test_type_b_frame(variant_rgb, tmp_path, angle, world_axis):
+    """A Type B file's aiming axis (H = V = 0) is local +Z; its V > 0 half is local +X
+    (C = 0, ``up`` x aim with lookat); H > 0 is C = 270, local +Y (the lookat ``up`` side
+    when aimed down: LM-63 measures Type B horizontal angles clockwise seen from above the
+    floodlight). A floodlight that emits only for that angle in [10, 60] degrees (the other
+    within 30 degrees of 0), aimed down with ``up`` = world +Z, lights the floor on the
+    world +X side (V) or the world +Z side (H) only."""
     from spectrace.photometry import generate
 
-    h = np.arange(-90.0, 90.1, 5.0)
-    v = np.arange(-90.0, 90.1, 5.0)
-    table = np.where((v[None, :] >= 10) & (v[None, :] <= 60) & (np.abs(h[:, None]) <= 30),
-                     500.0, 0.0)
-    path = str(generate.write_ies(tmp_path / "flood.ies", v, h, table, photometric_type="B"))
+    h = np.arange(-90.0, 90.1, 5.0)[:, None]
+    v = np.arange(-90.0, 90.1, 5.0)[None, :]
+    lit, other = (v, h) if angle == "V" else (h, v)
+    table = np.where((lit >= 10) & (lit <= 60) & (np.abs(other) <= 30), 500.0, 0.0)
+    path = str(generate.write_ies(tmp_path / "flood.ies", v.ravel(), h.ravel(), table,
+                                  photometric_type="B"))
     p = checks.positions()
     to_world, _ = aimed([P_LIGHT[0], 0, P_LIGHT[2]], [0, 0, 1])
     lum = checks.render({"type": "ieslight", "filename": path, "to_world": to_world}).sum(-1)
-    side = p[..., 0] - P_LIGHT[0]
+    side = p[..., world_axis] - P_LIGHT[world_axis]
     assert lum[side > 0.1].sum() > 0
     assert lum[side < 0.0].sum() == 0.0
+
+
+def test_light_from_an_in_memory_photometry(variant_rgb, tmp_path, rng):
+    """``from_photometry`` builds the light from a ``Photometry`` object: the one read from
+    a file emits what the file's plugin emits; its candela table doubled in memory emits
+    twice that; a table written in memory (isotropic 100 cd) emits 100 cd everywhere."""
+    import mitsuba as mi
+    from spectrace.photometry import Photometry
+    from spectrace.plugins.emitters import ieslight
+
+    path = profile_file(tmp_path, "B_full")
+    photometry = read(path)
+    d = direction(rng.uniform(0, 180, 500), rng.uniform(0, 360, 500))
+    from_file = checks.eval_intensity(mi.load_dict({"type": "ieslight", "filename": path}), d)
+    same = checks.eval_intensity(ieslight.from_photometry(photometry), d)
+    np.testing.assert_array_equal(same, from_file)
+    doubled = ieslight.from_photometry(photometry.replace(candela=2 * photometry.candela),
+                                       {"spectrum": WHITE})
+    np.testing.assert_allclose(checks.eval_intensity(doubled, d), 2 * from_file, rtol=1e-6)
+    table = Photometry(path="memory", format="LM-63-2002", photometric_type="C",
+                       vertical_angles=[0.0, 90.0, 180.0], horizontal_angles=[0.0],
+                       candela=[[100.0, 100.0, 100.0]], symmetry="rotational")
+    value = checks.eval_intensity(ieslight.from_photometry(table, {"scale": 0.5}), d)
+    np.testing.assert_allclose(value, 50.0 * WATTS_PER_CD, rtol=RTOL_SAME)
+    with pytest.raises(ValueError, match="'filename' does not apply"):
+        ieslight.from_photometry(table, {"filename": path})
 
 
 def test_render_turned_profile_against_closed_form(variant_rgb, tmp_path):
@@ -318,14 +351,14 @@ def test_ptracer_agrees_with_direct(variant, tmp_path):
 
 # -- sampling ---------------------------------------------------------------------------
 
-@pytest.mark.parametrize("kind", ["C", "B_full"])
+@pytest.mark.parametrize("kind", ["C", "B_full", "B_quadrant"])
 def test_sample_ray_chi2_and_weights(variant_rgb, tmp_path, rng, kind):
     """``sample_ray`` draws world directions with the density ``ray_direction_pdf``
     (Pearson's chi-square test, mitsuba.chi2; the density integrates to 1), and each ray's
     weight times that density is the emitted intensity I_v(gamma, C) / 683 of the file
     (``Photometry.intensity``): together, the rays carry exactly the intensity profile.
     The mean weight is then the radiant flux, the file's flux / 683. For a Type C file
-    and a Type B one."""
+    and Type B ones (one mirrored in H and V)."""
     import mitsuba as mi
     from mitsuba import chi2
 
