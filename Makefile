@@ -17,7 +17,7 @@ GALLERY ?= docs/gallery
 # JupyterLab refuses to start as root unless told to (these machines run as root).
 LAB_FLAGS ?= $(if $(filter 0,$(shell id -u)),--allow-root,)
 
-.PHONY: render test bench setup libllvm doctor gallery studies lab clean
+.PHONY: render test bench validate setup libllvm doctor gallery studies lab clean
 
 render: setup
 	$(BIN)/spectrace render $(SCENE) -o $(OUT)
@@ -27,6 +27,10 @@ test: setup
 
 bench: setup
 	@set -e; for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b; done
+
+# The CIE 171:2006 case families at full size (the test suite runs them --quick).
+validate: setup
+	$(BIN)/spectrace validate -o out/validation
 
 doctor: setup
 	$(BIN)/spectrace doctor

@@ -32,6 +32,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
+    "validate": ("spectrace.commands.validate",
+                 "the CIE 171:2006 case families against their closed forms"),
 }
 
 EXIT_USAGE = 2

@@ -1,0 +1,48 @@
+"""The validation cases pass at their quick size in RGB and spectral variants, and a
+deliberately wrong setting of the scene (never of the reference) makes them fail."""
+
+from __future__ import annotations
+
+import pytest
+
+from spectrace import validation
+from spectrace.validation import cases as C
+
+#: A light 5 % too strong (or a surface 5 % too bright, a glass of the wrong index):
+#: case -> XML parameters of its scene.
+WRONG = {
+    "point_horizontal": {"intensity": "1050"},
+    "point_asymmetric": {"scale": "1.05"},
+    "flux_closed_room": {"scale": "1.05"},
+    "area_disk_parallel": {"radiance": repr(C._radiance(1.05 * C.SOURCE_LUMINANCE))},
+    "area_rectangle_parallel": {"radiance": repr(C._radiance(1.05 * C.SOURCE_LUMINANCE))},
+    "integrating_sphere": {"flux": "1050"},
+    "diffuse_reflection_obstructed": {"rho": "0.525"},
+    "glass_transmittance": {"ior": "1.6"},
+}
+
+
+def test_every_modelled_case_passes_in_rgb(variant_rgb):
+    """Every case the program can model agrees with its closed form (RGB: delta lights
+    exact), and the cases it cannot model say why."""
+    results = validation.run(quick=True)
+    assert [r.name for r in results] == list(C.CASES)
+    for r in results:
+        if r.modelled:
+            assert r.passed, (r.name, r.relative_error.max())
+        else:
+            assert r.family == "daylight" and "ciesky" in r.reason
+
+
+@pytest.mark.parametrize("name", sorted(WRONG))
+def test_a_wrong_setting_fails(variant_spectral, name):
+    """The same case with its scene 5 % off (the reference unchanged) fails: the
+    tolerances are tight enough to see it."""
+    good, = validation.run([name], quick=True)
+    bad, = validation.run([name], quick=True, params=WRONG[name])
+    assert good.passed and not bad.passed
+
+
+def test_unknown_case_is_named(variant_rgb):
+    with pytest.raises(ValueError, match="unknown case 'nope'"):
+        validation.run(["nope"])
