@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError
 
 from .model import Photometry, Tilt, type_b_to_c, type_c_to_b
 
@@ -33,7 +33,7 @@ def read_photometry(path) -> Photometry:
 
     The format is told by the content: an LM-63 file has a ``TILT=`` line; otherwise a
     ``.ldt`` name means EULUMDAT. A missing, unreadable or malformed file raises
-    :class:`~spectrace.errors.UserError` with one line naming the file and the field.
+    :class:`~spectrace.errors.SpectraceError` with one line naming the file and the field.
     """
     from . import eulumdat, ies
 
@@ -41,16 +41,16 @@ def read_photometry(path) -> Photometry:
     try:
         data = ies.read_file(path)
     except OSError as e:
-        raise UserError(f"{path}: cannot read photometric file: {e.strerror or e}") from None
+        raise FileAccessError(f"{path}: cannot read photometric file: {e.strerror or e}") from None
     text = ies.decode(data)
     if not text.strip():
-        raise UserError(f"{path}: empty file (not an IES or EULUMDAT photometric file)")
+        raise FileFormatError(f"{path}: empty file (not an IES or EULUMDAT photometric file)")
     if ies.is_ies(text):
         return ies.parse_ies(path, text)
     if path.suffix.lower() == ".ldt":
         return eulumdat.parse_ldt(path, text)
     if path.suffix.lower() == ".ies":
         return ies.parse_ies(path, text)  # names what is missing
-    raise UserError(
+    raise FileFormatError(
         f"{path}: unknown format: neither an IES LM-63 file (no TILT= line) nor a .ldt file"
     )

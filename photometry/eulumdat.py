@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileFormatError
 
 from .ies import check_finite, count_text
 from .model import Photometry
@@ -65,7 +65,7 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     lorl = reader.number(23, "light output ratio LORL")
     conversion = reader.number(24, "conversion factor for luminous intensities")
     if not conversion > 0:
-        raise UserError(f"{path}: line 24 (conversion factor for luminous intensities): must be "
+        raise FileFormatError(f"{path}: line 24 (conversion factor for luminous intensities): must be "
                         f"> 0 (got {conversion:g})")
     reader.number(25, "tilt of luminaire during measurement")
     n_sets = reader.integer(26, "number of standard sets of lamps", minimum=1)
@@ -81,17 +81,17 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
             "watts": reader.number(base + 5, f"lamp set {s + 1}: wattage"),
         })
     if not sets[0]["flux"] > 0:
-        raise UserError(f"{path}: lamp set 1: total luminous flux: must be > 0 "
+        raise FileFormatError(f"{path}: lamp set 1: total luminous flux: must be > 0 "
                         f"(got {sets[0]['flux']:g})")
     if isym in (2,) and mc % 2 or isym in (3, 4) and mc % 4:
-        raise UserError(f"{path}: line 4 (number of C-planes Mc): {mc} does not divide for "
+        raise FileFormatError(f"{path}: line 4 (number of C-planes Mc): {mc} does not divide for "
                         f"symmetry indicator Isym {isym}")
     n_stored = stored_plane_count(isym, mc)
     rest = 27 + 6 * n_sets  # first line after the lamp sets
     tokens = [t for line in lines[rest - 1 :] for t in line.split()]
     need = 10 + mc + ng + n_stored * ng
     if len(tokens) < need:  # before allocating: a corrupt count may be astronomically large
-        raise UserError(
+        raise FileFormatError(
             f"{path}: intensities: the file ends early (truncated: {count_text(need)} numbers "
             f"expected after the lamp sets - 10 direct ratios, {count_text(mc)} C-angles, "
             f"{count_text(ng)} gamma angles, {count_text(n_stored)} x {count_text(ng)} "
@@ -99,7 +99,7 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
         )
     stored = stored_planes(isym, mc)
     if len(tokens) > need:
-        raise UserError(
+        raise FileFormatError(
             f"{path}: intensities: wrong counts: Mc = {mc}, Ng = {ng}, Isym = {isym} call for "
             f"{need} numbers after the lamp sets but {len(tokens)} follow"
         )
@@ -110,11 +110,11 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     _increasing(path, "C-angles", c_all)
     _increasing(path, "gamma angles", gamma)
     if gamma[0] < 0 or gamma[-1] > 180:
-        raise UserError(f"{path}: gamma angles: must lie in 0..180 "
+        raise FileFormatError(f"{path}: gamma angles: must lie in 0..180 "
                         f"(got {gamma[0]:g}..{gamma[-1]:g})")
     if np.any(table < 0):
         k, j = np.argwhere(table < 0)[0]
-        raise UserError(f"{path}: intensities: negative value {table[k, j]:g} at C = "
+        raise FileFormatError(f"{path}: intensities: negative value {table[k, j]:g} at C = "
                         f"{c_all[stored[k]]:g}, gamma = {gamma[j]:g}")
     horizontal = _canonical_planes(path, isym, c_all, stored)
     if isym == 3:
@@ -171,14 +171,14 @@ def _canonical_planes(path, isym, c_all, stored) -> np.ndarray:
     if isym == 1:
         return np.array([0.0])
     if c_all[0] != 0:
-        raise UserError(f"{path}: C-angles: must start at 0 (got {c_all[0]:g})")
+        raise FileFormatError(f"{path}: C-angles: must start at 0 (got {c_all[0]:g})")
     if isym == 0:
         if c_all[-1] >= 360:
-            raise UserError(f"{path}: C-angles: must lie below 360 (got {c_all[-1]:g})")
+            raise FileFormatError(f"{path}: C-angles: must lie below 360 (got {c_all[-1]:g})")
         return c
     lo, hi = expect[isym]
     if not (np.isclose(c[0], lo) and np.isclose(c[-1], hi)):
-        raise UserError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but the planes "
+        raise FileFormatError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but the planes "
                         f"there are C{c[0]:g}..C{c[-1]:g}")
     if isym == 3:
         return np.mod(180.0 - c, 360.0)
@@ -189,15 +189,15 @@ def _number(path, token: str, field: str) -> float:
     try:
         value = float(token.replace(",", "."))
     except ValueError:
-        raise UserError(f"{path}: {field}: {token[:30]!r} is not a number") from None
+        raise FileFormatError(f"{path}: {field}: {token[:30]!r} is not a number") from None
     if not np.isfinite(value):
-        raise UserError(f"{path}: {field}: {token!r} is not a finite number")
+        raise FileFormatError(f"{path}: {field}: {token!r} is not a finite number")
     return value
 
 
 def _increasing(path, field, values) -> None:
     if values.size > 1 and np.any(np.diff(values) <= 0):
-        raise UserError(f"{path}: {field}: must increase")
+        raise FileFormatError(f"{path}: {field}: must increase")
 
 
 class _Lines:
@@ -208,25 +208,25 @@ class _Lines:
 
     def text(self, k: int, field: str) -> str:
         if k > len(self.lines):
-            raise UserError(f"{self.path}: line {k} ({field}): the file ends early (truncated)")
+            raise FileFormatError(f"{self.path}: line {k} ({field}): the file ends early (truncated)")
         return self.lines[k - 1].strip()
 
     def number(self, k: int, field: str) -> float:
         token = self.text(k, field)
         if not token:
-            raise UserError(f"{self.path}: line {k} ({field}): empty, a number is expected")
+            raise FileFormatError(f"{self.path}: line {k} ({field}): empty, a number is expected")
         return _number(self.path, token.split()[0], f"line {k} ({field})")
 
     def integer(self, k: int, field: str, minimum: int | None = None, choices=None) -> int:
         value = self.number(k, field)
         if value != int(value):
-            raise UserError(f"{self.path}: line {k} ({field}): must be a whole number "
+            raise FileFormatError(f"{self.path}: line {k} ({field}): must be a whole number "
                             f"(got {value:g})")
         value = int(value)
         if minimum is not None and value < minimum:
-            raise UserError(f"{self.path}: line {k} ({field}): must be >= {minimum} "
+            raise FileFormatError(f"{self.path}: line {k} ({field}): must be >= {minimum} "
                             f"(got {value})")
         if choices is not None and value not in choices:
-            raise UserError(f"{self.path}: line {k} ({field}): must be one of "
+            raise FileFormatError(f"{self.path}: line {k} ({field}): must be one of "
                             f"{', '.join(map(str, choices))} (got {value})")
         return value

@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileFormatError
 
 from .model import Photometry, Tilt
 
@@ -110,7 +110,7 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
     start = 1
     if fmt is None:
         if _VERSION_LIKE.match(first):
-            raise UserError(
+            raise FileFormatError(
                 f"{path}: format line: unknown IES version {first[:40]!r} (known: IESNA91, "
                 "IESNA:LM-63-1995, IESNA:LM-63-2002, IES:LM-63-2019, or none for 1986)"
             )
@@ -121,7 +121,7 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
         None,
     )
     if tilt_at is None:
-        raise UserError(f"{path}: TILT: no 'TILT=' line (not an IES LM-63 file, or truncated)")
+        raise FileFormatError(f"{path}: TILT: no 'TILT=' line (not an IES LM-63 file, or truncated)")
     keywords = _keywords(lines[start:tilt_at])
     tilt_spec = lines[tilt_at].split("=", 1)[1].strip()
     tokens = _Tokens(_SEPARATORS.split("\n".join(lines[tilt_at + 1 :])), path)
@@ -134,7 +134,7 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
         try:
             tilt_text = decode(read_file(tilt_path))
         except OSError as e:
-            raise UserError(
+            raise FileFormatError(
                 f"{path}: TILT: cannot read tilt file {tilt_spec!r} ({tilt_path}): "
                 f"{e.strerror or e}"
             ) from None
@@ -146,34 +146,34 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
     n_lamps = tokens.integer("number of lamps", minimum=1)
     lumens = tokens.number("lumens per lamp")
     if lumens <= 0 and lumens != -1:
-        raise UserError(f"{path}: lumens per lamp: must be > 0 or -1 (absolute) (got {lumens:g})")
+        raise FileFormatError(f"{path}: lumens per lamp: must be > 0 or -1 (absolute) (got {lumens:g})")
     multiplier = tokens.number("candela multiplier")
     if not multiplier > 0:
-        raise UserError(f"{path}: candela multiplier: must be > 0 (got {multiplier:g})")
+        raise FileFormatError(f"{path}: candela multiplier: must be > 0 (got {multiplier:g})")
     n_v = tokens.integer("number of vertical angles", minimum=2)
     n_h = tokens.integer("number of horizontal angles", minimum=1)
     type_code = tokens.integer("photometric type")
     if type_code not in _TYPES:
-        raise UserError(
+        raise FileFormatError(
             f"{path}: photometric type: must be 1 (C), 2 (B) or 3 (A) (got {type_code})"
         )
     ptype = _TYPES[type_code]
     if ptype == "A":
-        raise UserError(
+        raise FileFormatError(
             f"{path}: photometric type: Type A (automotive) photometry is not supported"
         )
     units = tokens.integer("units type")
     if units not in (1, 2):
-        raise UserError(f"{path}: units type: must be 1 (feet) or 2 (metres) (got {units})")
+        raise FileFormatError(f"{path}: units type: must be 1 (feet) or 2 (metres) (got {units})")
     scale = FEET_TO_M if units == 1 else 1.0
     opening = tuple(tokens.number(name) * scale for name in ("width", "length", "height"))
     ballast = tokens.number("ballast factor")
     if not ballast > 0:
-        raise UserError(f"{path}: ballast factor: must be > 0 (got {ballast:g})")
+        raise FileFormatError(f"{path}: ballast factor: must be > 0 (got {ballast:g})")
     blpf_field = tokens.number("ballast-lamp photometric factor")
     blpf = blpf_field if fmt in ("LM-63-1986", "LM-63-1991") else 1.0
     if not blpf > 0:
-        raise UserError(f"{path}: ballast-lamp photometric factor: must be > 0 (got {blpf:g})")
+        raise FileFormatError(f"{path}: ballast-lamp photometric factor: must be > 0 (got {blpf:g})")
     watts = tokens.number("input watts")
 
     vertical = tokens.numbers(n_v, "vertical angles")
@@ -187,7 +187,7 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
     bad = np.argwhere(candela < 0)
     if bad.size:
         i, j = bad[0]
-        raise UserError(
+        raise FileFormatError(
             f"{path}: candela values: negative value {candela[i, j]:g} at horizontal angle "
             f"{horizontal[i]:g}, vertical angle {vertical[j]:g}"
         )
@@ -223,12 +223,12 @@ def count_text(n: int) -> str:
 
 
 def check_finite(path: Path, values: np.ndarray, factor: float) -> None:
-    """UserError unless ``values * factor`` (the candela table with the file's factors
+    """FileFormatError unless ``values * factor`` (the candela table with the file's factors
     applied) is finite: huge factors or values must not make infinite intensities."""
     with np.errstate(over="ignore", invalid="ignore"):
         ok = np.isfinite(factor) and bool(np.all(np.isfinite(values * factor)))
     if not ok:
-        raise UserError(
+        raise FileFormatError(
             f"{path}: candela values: the intensities times the file's factors ({factor:g}) "
             "overflow (not finite numbers)"
         )
@@ -266,7 +266,7 @@ class _Tokens:
 
     def _take(self, field: str, expected: int) -> str:
         if self.pos >= len(self.tokens):
-            raise UserError(
+            raise FileFormatError(
                 f"{self.path}: {field}: the file ends early (truncated; {expected} more "
                 "number(s) expected)"
             )
@@ -278,30 +278,30 @@ class _Tokens:
         try:
             value = float(token)
         except ValueError:
-            raise UserError(f"{self.path}: {field}: {token[:30]!r} is not a number") from None
+            raise FileFormatError(f"{self.path}: {field}: {token[:30]!r} is not a number") from None
         if not np.isfinite(value):
-            raise UserError(f"{self.path}: {field}: {token!r} is not a finite number")
+            raise FileFormatError(f"{self.path}: {field}: {token!r} is not a finite number")
         return value
 
     def integer(self, field: str, minimum: int | None = None) -> int:
         value = self.number(field)
         if value != int(value):
-            raise UserError(f"{self.path}: {field}: must be a whole number (got {value:g})")
+            raise FileFormatError(f"{self.path}: {field}: must be a whole number (got {value:g})")
         if minimum is not None and value < minimum:
-            raise UserError(f"{self.path}: {field}: must be >= {minimum} (got {value:g})")
+            raise FileFormatError(f"{self.path}: {field}: must be >= {minimum} (got {value:g})")
         return int(value)
 
     def numbers(self, n: int, field: str) -> np.ndarray:
         left = len(self.tokens) - self.pos
         if n > left:  # before allocating: a corrupt count may be astronomically large
-            raise UserError(
+            raise FileFormatError(
                 f"{self.path}: {field}: the file ends early (truncated: {count_text(n)} "
                 f"expected, {left} found)"
             )
         out = np.empty(n)
         for k in range(n):
             if self.pos >= len(self.tokens):
-                raise UserError(
+                raise FileFormatError(
                     f"{self.path}: {field}: the file ends early (truncated: {n} expected, "
                     f"{k} found)"
                 )
@@ -312,7 +312,7 @@ class _Tokens:
         extra = len(self.tokens) - self.pos
         if extra:
             said = f" the header's counts say {counts}," if counts else ""
-            raise UserError(
+            raise FileFormatError(
                 f"{self.path}: {field}: wrong counts:{said} but {extra} more value(s) follow "
                 f"({self.tokens[self.pos][:20]!r}...)"
             )
@@ -321,7 +321,7 @@ class _Tokens:
 def _read_tilt(tokens: _Tokens) -> Tilt:
     geometry = tokens.integer("TILT lamp-to-luminaire geometry")
     if geometry not in (1, 2, 3):
-        raise UserError(
+        raise FileFormatError(
             f"{tokens.path}: TILT lamp-to-luminaire geometry: must be 1, 2 or 3 (got {geometry})"
         )
     n = tokens.integer("TILT number of angles", minimum=1)
@@ -329,14 +329,14 @@ def _read_tilt(tokens: _Tokens) -> Tilt:
     factors = tokens.numbers(n, "TILT multiplying factors")
     _check_increasing(tokens.path, "TILT angles", angles)
     if np.any(factors < 0):
-        raise UserError(f"{tokens.path}: TILT multiplying factors: negative factor")
+        raise FileFormatError(f"{tokens.path}: TILT multiplying factors: negative factor")
     return Tilt(geometry, angles, factors)
 
 
 def _check_increasing(path: Path, field: str, values: np.ndarray) -> None:
     if values.size > 1 and np.any(np.diff(values) <= 0):
         k = int(np.nonzero(np.diff(values) <= 0)[0][0])
-        raise UserError(
+        raise FileFormatError(
             f"{path}: {field}: must increase ({values[k]:g} then {values[k + 1]:g})"
         )
 
@@ -345,13 +345,13 @@ def _symmetry(path: Path, ptype: str, vertical: np.ndarray, horizontal: np.ndarr
     first, last = horizontal[0], horizontal[-1]
     if ptype == "C":
         if vertical[0] < 0 or vertical[-1] > 180:
-            raise UserError(
+            raise FileFormatError(
                 f"{path}: vertical angles: Type C angles must lie in 0..180 "
                 f"(got {vertical[0]:g}..{vertical[-1]:g})"
             )
         if horizontal.size == 1:
             if first != 0:
-                raise UserError(
+                raise FileFormatError(
                     f"{path}: horizontal angles: a single angle must be 0 (got {first:g})"
                 )
             return "rotational"
@@ -363,18 +363,18 @@ def _symmetry(path: Path, ptype: str, vertical: np.ndarray, horizontal: np.ndarr
             return "bilateral_90_270"
         if first == 0 and 180 < last <= 360:
             return "none"
-        raise UserError(
+        raise FileFormatError(
             f"{path}: horizontal angles: Type C range {first:g}..{last:g} is none of 0 (one "
             "angle), 0-90, 0-180, 90-270, 0-360"
         )
     # Type B
     if vertical[0] < -180 or vertical[-1] > 180:
-        raise UserError(
+        raise FileFormatError(
             f"{path}: vertical angles: Type B angles must lie in -180..180 "
             f"(got {vertical[0]:g}..{vertical[-1]:g})"
         )
     if horizontal.size < 2 or first < -90 or last > 90 or first > 0:
-        raise UserError(
+        raise FileFormatError(
             f"{path}: horizontal angles: Type B needs at least two angles, from 0 or below "
             f"to at most 90 within -90..90 (got {first:g}..{last:g})"
         )

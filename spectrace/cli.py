@@ -2,7 +2,7 @@
 
 Each subcommand is a module with ``add_arguments(parser)`` and ``run(args) -> int``;
 ``COMMANDS`` maps the subcommand name to that module, imported only when used.
-A :class:`~spectrace.errors.UserError` becomes one ``error: ...`` line on stderr and
+A :class:`~spectrace.errors.SpectraceError` becomes one ``error: ...`` line on stderr and
 exit status 2, never a traceback.
 """
 
@@ -12,7 +12,7 @@ import argparse
 import importlib
 import sys
 
-from spectrace.errors import UserError
+from spectrace.errors import SpectraceError
 
 #: subcommand -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -81,10 +81,13 @@ def main(argv: list[str] | None = None) -> int:
     try:
         parser = build_parser(only=_command_in(argv))
         args = parser.parse_args(argv)
+        from spectrace.mitsuba_log import configure_cli
+
+        configure_cli(getattr(args, "verbose", False))
         code = int(args._module.run(args) or 0)
         sys.stdout.flush()  # a closed pipe shows here, not in Python's flush at exit
         return code
-    except UserError as e:
+    except SpectraceError as e:
         print(f"error: {e}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

@@ -27,14 +27,14 @@ class FileAccessError(SpectraceError, OSError):
     """A file is missing, unreadable or unwritable (the file is named in the message)."""
 
 
+class SetupError(SpectraceError):
+    """The machine lacks something spectrace needs (a libLLVM >= 16, the GPU of a CUDA
+    variant); the message says what to install or choose instead."""
+
+
 class UsageError(SpectraceError):
     """A command-line mistake (a flag's value, a missing argument): raised only by
     ``spectrace/commands/`` and ``spectrace/cli.py``."""
-
-
-#: Transitional name: library code that still raises ``UserError`` raises the base class,
-#: which the command line catches; new code raises one of the classes above.
-UserError = SpectraceError
 
 
 def first_line(error: BaseException | str) -> str:

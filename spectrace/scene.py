@@ -2,7 +2,7 @@
 
 Mitsuba reports XML and plugin errors as ``RuntimeError`` with a source-location prefix
 and sometimes several lines; :func:`load_scene` turns them into one-line
-:class:`~spectrace.errors.UserError` messages that keep the file, line and parameter.
+:class:`~spectrace.errors.SpectraceError` messages that keep the file, line and parameter.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError, ParameterError
 from spectrace.signals import defer_sigint
 
 _PARAMETER = re.compile(r"\$(\w+)")
@@ -34,30 +34,30 @@ def parse_defines(defines: list[str] | None) -> dict[str, str]:
     for item in defines or []:
         name, sep, value = item.partition("=")
         if not sep or not name.strip():
-            raise UserError(f"-D {item!r}: expected name=value")
+            raise ParameterError(f"-D {item!r}: expected name=value")
         params[name.strip()] = value
     return params
 
 
 def read_scene_xml(path: str | Path) -> ET.Element:
-    """Parse the scene file; a missing or malformed file is a UserError naming it."""
+    """Parse the scene file; a missing or malformed file is a SpectraceError naming it."""
     path = Path(path)
     if path.is_dir():
-        raise UserError(f"scene {path}: is a folder, not a scene file")
+        raise FileAccessError(f"scene {path}: is a folder, not a scene file")
     if not path.is_file():
-        raise UserError(f"scene {path}: no such file")
+        raise FileAccessError(f"scene {path}: no such file")
     try:
         return ET.parse(path).getroot()
     except ET.ParseError as e:
-        raise UserError(f"scene {path}: malformed XML: {e}") from None
+        raise FileFormatError(f"scene {path}: malformed XML: {e}") from None
     except OSError as e:
-        raise UserError(f"scene {path}: {e.strerror or e}") from None
+        raise FileAccessError(f"scene {path}: {e.strerror or e}") from None
 
 
 def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None):
     """Load a Mitsuba scene to render from ``path`` with XML parameters ``params`` (``$name``).
 
-    The scene must have a sensor and an integrator (UserError otherwise).
+    The scene must have a sensor and an integrator (SpectraceError otherwise).
 
     ``root``, when given, is a (possibly modified) parsed tree of that file: it is loaded
     instead of the file, with relative asset paths still resolved against the file's folder.
@@ -67,7 +67,7 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     path = Path(path)
     tree = read_scene_xml(path) if root is None else root
     if tree.tag != "scene":
-        raise UserError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
+        raise FileFormatError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
     params = {k: str(v) for k, v in (params or {}).items()}
     from spectrace import registry
 
@@ -98,21 +98,21 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
             # (or leaves a half-imported module behind): an interrupt, not a mistake.
             raise KeyboardInterrupt from None
         if "unused parameters" in str(e):
-            raise UserError(_unused_parameters(path, tree, str(e))) from None
+            raise ParameterError(_unused_parameters(path, tree, str(e))) from None
         msg = one_line(e) + _variant_hint(str(e))
-        raise UserError(msg if str(path) in msg else f"scene {path}: {msg}") from None
+        raise FileFormatError(msg if str(path) in msg else f"scene {path}: {msg}") from None
     finally:
         _remove_path(resolver, folder)
     if not scene.sensors():
-        raise UserError(f"scene {path}: no <sensor> to render from")
+        raise FileFormatError(f"scene {path}: no <sensor> to render from")
     if scene.integrator() is None:
-        raise UserError(f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
+        raise FileFormatError(f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
     for sensor in scene.sensors():
         film = sensor.film()
         width, height = (int(v) for v in film.crop_size())
         if width <= 0 or height <= 0:
             full = "x".join(str(int(v)) for v in film.size())
-            raise UserError(
+            raise ParameterError(
                 f"scene {path}: the film's width and height must be > 0 (got {width}x{height}"
                 f"{'' if full == f'{width}x{height}' else f', full size {full}'})"
             )

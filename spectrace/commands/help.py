@@ -14,7 +14,7 @@ import argparse
 import ast
 import importlib.util
 
-from spectrace.errors import UserError
+from spectrace.errors import UsageError
 
 #: Modules of ``spectrace.plugins`` that are helper pages but not in PLUGIN_MODULES.
 EXTRA_PAGES = ("params",)
@@ -45,7 +45,7 @@ def pages() -> dict[str, str]:
 def _source(module: str) -> str:
     spec = importlib.util.find_spec(f"spectrace.plugins.{module}")
     if spec is None or spec.origin is None:
-        raise UserError(f"no source for spectrace.plugins.{module}")
+        raise UsageError(f"no source for spectrace.plugins.{module}")
     with open(spec.origin, encoding="utf-8") as f:
         return f.read()
 
@@ -60,7 +60,7 @@ def page(name: str) -> str:
 
         close = difflib.get_close_matches(name.lower(), modules, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
-        raise UserError(f"no page {name!r}; {hint}pages: {', '.join(modules)} (Mitsuba's "
+        raise UsageError(f"no page {name!r}; {hint}pages: {', '.join(modules)} (Mitsuba's "
                         "own plugins, such as path or diffuse, are described at "
                         "https://mitsuba.readthedocs.io)")
     text = ast.get_docstring(ast.parse(_source(modules[name])), clean=True) or ""

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import UsageError
 
 
 def add_arguments(parser) -> None:
@@ -31,7 +31,7 @@ def run(args) -> int:
     from spectrace.photometry import read_photometry
 
     if args.plot and Path(args.plot).suffix.lower() != ".png":
-        raise UserError(f"--plot {args.plot}: must end in .png")
+        raise UsageError(f"--plot {args.plot}: must end in .png")
     ph = read_photometry(args.file)  # before check_writable makes the plot's folder
     if args.plot:
         from spectrace.images import check_writable
