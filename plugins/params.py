@@ -11,10 +11,10 @@ follows one contract:
   ``rgb``, else by evaluating it (on a grid of uv positions and, in spectral variants,
   of wavelengths); a texture that cannot be evaluated for the check is refused, never
   accepted unchecked;
-* every error is one ``ValueError`` line that names the plugin, the parameter, what was
-  expected and what came: ``local: parameter 'shadows' must be a boolean (got a string
-  "no")``. Mitsuba's loader turns it into its load error, which the command line prints
-  as one line.
+* every error is one :class:`~spectrace.errors.ParameterError` (a ``ValueError``) line that
+  names the plugin, the parameter, what was expected and what came: ``local: parameter
+  'shadows' must be a boolean (got a string "no")``. Mitsuba's loader turns it into its
+  load error, which :func:`spectrace.scene.load_error` turns back into this class.
 
 A missing parameter gives ``default``; pass :data:`REQUIRED` to make it mandatory.
 Mitsuba types are looked up when a function runs, so the module needs no re-execution
@@ -27,6 +27,8 @@ import math
 
 import drjit as dr
 import mitsuba as mi
+
+from spectrace.errors import ParameterError, first_line
 
 __all__ = [
     "REQUIRED", "xml_type", "read_float", "read_int", "read_bool", "read_choice",
@@ -71,7 +73,7 @@ def _got(props, name: str) -> str:
 
 
 def _missing(plugin: str, name: str, what: str):
-    return ValueError(f"{plugin}: parameter '{name}' is required ({what})")
+    return ParameterError(f"{plugin}: parameter '{name}' is required ({what})")
 
 
 def _check_range(plugin, name, value, what, minimum, maximum, strict_minimum):
@@ -86,7 +88,7 @@ def _check_range(plugin, name, value, what, minimum, maximum, strict_minimum):
         ok &= value <= maximum
     if not ok:
         rule = " and ".join(rules) if rules else "a number"
-        raise ValueError(f"{plugin}: parameter '{name}' must be {rule} (got {value:g})")
+        raise ParameterError(f"{plugin}: parameter '{name}' must be {rule} (got {value:g})")
     return value
 
 
@@ -102,12 +104,12 @@ def read_float(props, plugin: str, name: str, default, *, minimum=None, maximum=
             raise _missing(plugin, name, "a float")
         return default
     if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a float (got {_got(props, name)})"
         )
     value = float(props.get(name))
     if finite and not math.isfinite(value):
-        raise ValueError(f"{plugin}: parameter '{name}' must be a finite float (got {value:g})")
+        raise ParameterError(f"{plugin}: parameter '{name}' must be a finite float (got {value:g})")
     return _check_range(plugin, name, value, "a float", minimum, maximum, strict_minimum)
 
 
@@ -118,7 +120,7 @@ def read_int(props, plugin: str, name: str, default, *, minimum=None, maximum=No
             raise _missing(plugin, name, "an integer")
         return default
     if props.type(name) != mi.Properties.Type.Integer:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be an integer (got {_got(props, name)})"
         )
     value = int(props.get(name))
@@ -133,7 +135,7 @@ def read_bool(props, plugin: str, name: str, default):
             raise _missing(plugin, name, "a boolean")
         return default
     if props.type(name) != mi.Properties.Type.Bool:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a boolean, true or false "
             f"(got {_got(props, name)})"
         )
@@ -147,7 +149,7 @@ def read_string(props, plugin: str, name: str, default):
             raise _missing(plugin, name, "a string")
         return default
     if props.type(name) != mi.Properties.Type.String:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a string (got {_got(props, name)})"
         )
     return str(props.get(name))
@@ -162,12 +164,13 @@ def read_choice(props, plugin: str, name: str, default, options):
             raise _missing(plugin, name, f"one of {listed}")
         return default
     if props.type(name) != mi.Properties.Type.String:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be one of {listed} (got {_got(props, name)})"
         )
     value = str(props.get(name))
     if value not in options:
-        raise ValueError(f"{plugin}: parameter '{name}' must be one of {listed} (got {value!r})")
+        raise ParameterError(
+            f"{plugin}: parameter '{name}' must be one of {listed} (got {value!r})")
     return value
 
 
@@ -178,7 +181,7 @@ def read_point(props, plugin: str, name: str, default):
             raise _missing(plugin, name, "a point")
         return default
     if props.type(name) != mi.Properties.Type.Vector:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a point (got {_got(props, name)})"
         )
     return mi.ScalarPoint3f(props.get(name))
@@ -262,7 +265,8 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
         return texture
     kind = str(props.type(name)).split(".")[-1]
     if kind not in _TEXTURE_TYPES:
-        raise ValueError(f"{plugin}: parameter '{name}' must be {what} (got {_got(props, name)})")
+        raise ParameterError(
+            f"{plugin}: parameter '{name}' must be {what} (got {_got(props, name)})")
     rule = _rule(minimum, maximum)
     if rule is not None:
         rule = f"{noun} {rule}" if noun else rule
@@ -271,15 +275,15 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
         low, high = min(given), max(given)
         if not _in_range(low, high, minimum, maximum, 0.0):
             shown = ", ".join(f"{v:g}" for v in given)
-            raise ValueError(f"{plugin}: parameter '{name}' must be {rule} (got {shown})")
+            raise ParameterError(f"{plugin}: parameter '{name}' must be {rule} (got {shown})")
     try:
         texture = props.get_emissive_texture(name) if emissive else props.get_texture(name)
     except Exception as error:  # noqa: BLE001 - Mitsuba's message does not name our plugin
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be {what} ({_first_line(error)})"
+        raise ParameterError(
+            f"{plugin}: parameter '{name}' must be {what} ({first_line(error)})"
         ) from None
     if uniform and texture.is_spatially_varying():
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a spectrum, not a spatially varying "
             f"texture (got {texture.class_name()})"
         )
@@ -287,13 +291,13 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
         try:
             low, high = texture_range(texture)
         except Exception as error:  # noqa: BLE001 - refused, never accepted unchecked
-            raise ValueError(
+            raise ParameterError(
                 f"{plugin}: parameter '{name}' must be {rule}, and {texture.class_name()} "
                 f"cannot be evaluated to check it in variant {mi.variant()} "
-                f"({_first_line(error)})"
+                f"({first_line(error)})"
             ) from None
         if not _in_range(low, high, minimum, maximum, RANGE_SLACK):
-            raise ValueError(
+            raise ParameterError(
                 f"{plugin}: parameter '{name}' must be {rule} (got {texture.class_name()} "
                 f"with values from {low:g} to {high:g})"
             )
@@ -329,11 +333,3 @@ def _in_range(low, high, minimum, maximum, slack):
     if minimum is not None and low < minimum - slack:
         return False
     return not (maximum is not None and high > maximum + slack)
-
-
-def _first_line(error) -> str:
-    lines = [line.strip() for line in str(error).strip().splitlines() if line.strip()]
-    text = lines[0] if lines else type(error).__name__
-    if text.startswith("[") and "]" in text:  # drop "[properties.cpp:693] "
-        text = text.split("]", 1)[1].strip()
-    return text

@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import ParameterError, SpectraceError
+from spectrace.errors import ParameterError, SpectraceError, first_line
 
 #: Worker processes of the default LocalCluster. Measured on the 2-core development machine
 #: with benchmarks/bench_sweep.py (small renders): two single-threaded workers beat one
@@ -80,7 +80,7 @@ def _sigint_ignored():
 def _check_workers(workers: int | None) -> int:
     n = DEFAULT_WORKERS if workers is None else workers
     if n < 1:
-        raise ParameterError(f"--workers must be a positive integer (got {n})")
+        raise ParameterError(f"workers must be a positive integer (got {n})")
     return n
 
 
@@ -123,8 +123,7 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
             timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
             client = Client(scheduler, timeout=timeout, set_as_default=False)
         except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
-            reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-            raise ParameterError(f"cannot reach scheduler {scheduler}: {reason}") from None
+            raise ParameterError(f"cannot reach scheduler {scheduler}: {first_line(e)}") from None
     else:
         cluster = start_local(workers)
         client = Client(cluster, set_as_default=False)
@@ -145,9 +144,8 @@ def check_address(address: str) -> None:
     try:
         get_address_host_port(address if "://" in address else f"tcp://{address}")
     except (ValueError, TypeError) as e:
-        reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
         raise ParameterError(f"--scheduler {address}: not a scheduler address such as "
-                        f"tcp://host:8786 ({reason})") from None
+                             f"tcp://host:8786 ({first_line(e)})") from None
 
 
 def setup_workers(client, variant: str | None = None, dr_threads: int | None = None) -> None:

@@ -89,9 +89,9 @@ def load_bsdf(spec):
     except SpectraceError:
         raise
     except Exception as e:
-        from spectrace.scene import one_line
+        from spectrace.scene import load_error
 
-        raise ParameterError(one_line(e) or repr(e)) from None
+        raise load_error(e) from None
     if not isinstance(bsdf, mi.BSDF):
         raise ParameterError(f"{spec!r} does not describe a BSDF (got {type(bsdf).__name__})")
     return bsdf

@@ -211,9 +211,9 @@ def illuminance_integrator(plane: Plane | None = None, max_depth: int | None = N
     try:
         return mi.load_dict(spec)
     except (RuntimeError, ValueError) as e:
-        from spectrace.scene import one_line
+        from spectrace.scene import load_error
 
-        raise ParameterError(one_line(e)) from None
+        raise load_error(e) from None
 
 
 def check_plane_visible(scene, plane: Plane, sensor=0) -> None:

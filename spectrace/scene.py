@@ -1,8 +1,9 @@
 """Loading Mitsuba XML scenes with errors a user can read.
 
 Mitsuba reports XML and plugin errors as ``RuntimeError`` with a source-location prefix
-and sometimes several lines; :func:`load_scene` turns them into one-line
-:class:`~spectrace.errors.SpectraceError` messages that keep the file, line and parameter.
+and sometimes several lines (a plugin's error as its traceback); :func:`load_scene` turns
+them into one-line :mod:`spectrace.errors` exceptions (:func:`load_error`) that keep the
+file, line and parameter.
 """
 
 from __future__ import annotations
@@ -11,21 +12,47 @@ import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from spectrace.errors import FileAccessError, FileFormatError, ParameterError
+from spectrace.errors import (
+    FileAccessError,
+    FileFormatError,
+    ParameterError,
+    SetupError,
+    SpectraceError,
+    first_line,
+)
 from spectrace.signals import defer_sigint
 
 _PARAMETER = re.compile(r"\$(\w+)")
-_CPP_PREFIX = re.compile(r"\[[\w./-]+\.(?:cpp|h|py):\d+\]\s*")
-# A Python plugin's exception arrives with its traceback: keep only the final message.
-_PY_TRACEBACK = re.compile(r"Traceback \(most recent call last\):.*?^\w+(?:Error|Exception): ",
-                           re.DOTALL | re.MULTILINE)
+#: How Mitsuba's loader introduces the Python traceback of a plugin's constructor.
+_TRACEBACK = "Traceback (most recent call last):"
+#: The library's exception classes by name, as a traceback's last line names them.
+_CLASSES = {cls.__name__: cls for cls in (ParameterError, FileFormatError, FileAccessError,
+                                          SetupError)}
 
 
-def one_line(message: str) -> str:
-    """Mitsuba's message without ``[file.cpp:123]`` prefixes, its lines joined by '; '."""
-    text = _PY_TRACEBACK.sub("", _CPP_PREFIX.sub("", str(message)))
-    lines = [ln.strip(" -") for ln in text.splitlines() if ln.strip(" -")]
-    return "; ".join(lines).replace(":;", ":")
+def load_error(error: BaseException) -> SpectraceError:
+    """The user's mistake in a Mitsuba load error (``mi.load_file``/``load_string``/
+    ``load_dict``), as one line.
+
+    A spectrace plugin's constructor raises a :mod:`spectrace.errors` class naming the
+    plugin and its parameter; Mitsuba's loader hands it on as a ``RuntimeError`` holding the
+    traceback, and it comes back as that class, with the message and Mitsuba's location of
+    the plugin in the file (``At scene.xml (line 3, col 2)``). Mitsuba's own errors become a
+    :class:`~spectrace.errors.FileFormatError` of their lines joined by '; ', without the
+    ``[parser.cpp:123]`` source locations.
+    """
+    text = str(error)
+    head, found, trace = text.partition(_TRACEBACK)
+    if found:
+        last = trace.strip().splitlines()[-1]  # "spectrace.errors.ParameterError: phong: ..."
+        name, _, message = last.partition(": ")
+        cls = _CLASSES.get(name.rpartition(".")[2], ParameterError)
+        where = first_line(head).partition(": failed to instantiate")[0]
+        if where and "dictionary node" not in where:  # a file's line, not a dict's key
+            message = f"{where}: {message}"
+        return cls(message)
+    lines = [first_line(line).strip(" -") for line in text.splitlines()]
+    return FileFormatError("; ".join(ln for ln in lines if ln).replace(":;", ":"))
 
 
 def parse_defines(defines: list[str] | None) -> dict[str, str]:
@@ -99,8 +126,9 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
             raise KeyboardInterrupt from None
         if "unused parameters" in str(e):
             raise ParameterError(_unused_parameters(path, tree, str(e))) from None
-        msg = one_line(e) + _variant_hint(str(e))
-        raise FileFormatError(msg if str(path) in msg else f"scene {path}: {msg}") from None
+        error = load_error(e)
+        msg = str(error) + _variant_hint(str(e))
+        raise type(error)(msg if str(path) in msg else f"scene {path}: {msg}") from None
     finally:
         _remove_path(resolver, folder)
     if not scene.sensors():

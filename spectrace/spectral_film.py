@@ -114,14 +114,15 @@ def film_to_bands(image, wavelengths) -> np.ndarray:
     c = check_wavelengths(wavelengths, "film_to_bands")
     img = np.array(image, dtype=np.float32)  # a copy: the render's tensor stays as it is
     if img.ndim < 1 or img.shape[-1] != c.size:
-        raise ValueError(
+        raise ParameterError(
             f"film_to_bands: image has shape {img.shape}, expected (..., {c.size}) channels "
             "(mismatched lengths)"
         )
     if c.size > 1:
         d = np.diff(c)
         if not np.allclose(d, d[0], rtol=1e-9, atol=0):
-            raise ValueError("film_to_bands: band centres must be evenly spaced (replace_film's)")
+            raise ParameterError(
+                "film_to_bands: band centres must be evenly spaced (replace_film's)")
         widths = np.full(c.size, d[0])
         widths[[0, -1]] = d[0] / 2
         img /= widths.astype(np.float32)

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import ParameterError, SpectraceError
+from spectrace.errors import ParameterError, SpectraceError, first_line
 from spectrace.passes import check_seed
 
 RESULTS = "results.csv"
@@ -353,8 +353,7 @@ def run(grid: Grid, client, outdir, *, on_image: Callable[[Outcome], None] | Non
             try:
                 answer = future.result()
             except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries
-                first = str(e).strip().splitlines()[0] if str(e).strip() else ""
-                answer = {"error": f"{type(e).__name__}: {first}"}
+                answer = {"error": f"{type(e).__name__}: {first_line(e)}"}
             _take(outdir, grid, o, answer)
             if not keep_images and o.status == "rendered":
                 o.image = _thumbnail(o.image)

@@ -150,6 +150,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff, luminous
 
+from spectrace.errors import FileAccessError, ParameterError, SpectraceError, first_line
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -168,10 +170,9 @@ REGULAR_RTOL = 1e-6
 
 def read_profile(filename: str):
     """The ``Photometry`` of ``filename``, resolved through Mitsuba's file resolver; a missing
-    or bad file raises ``ValueError`` with one line naming the file (and the field)."""
+    or bad file raises :class:`~spectrace.errors.FileAccessError` or
+    :class:`~spectrace.errors.FileFormatError` with one line naming the file (and the field)."""
     from spectrace.photometry import read_photometry
-
-    from spectrace.errors import UserError
 
     resolver = mi.file_resolver()
     path = Path(str(resolver.resolve(filename)))
@@ -182,20 +183,15 @@ def read_profile(filename: str):
         where = ""
         if not Path(filename).is_absolute():  # say where a relative name was looked up
             folders = [str(resolver[i]) for i in range(len(resolver))]
-            folders = [f for f in folders if Path(f).name != "mitsuba"] or folders
-            where = f" (looked in {', '.join(folders)})"
-        raise ValueError(f"{PLUGIN}: parameter 'filename': {what}{where}")
+            folders = [f for f in folders if f and Path(f).name != "mitsuba"] or folders
+            where = f" (looked in {', '.join(dict.fromkeys(folders))})"
+        raise FileAccessError(f"{PLUGIN}: parameter 'filename': {what}{where}")
     try:
         return path, read_photometry(path)
-    except UserError as error:
-        raise ValueError(f"{PLUGIN}: {one_line(str(error))}") from None
+    except SpectraceError as error:
+        raise type(error)(f"{PLUGIN}: {first_line(error)}") from None
     except (OSError, UnicodeError) as error:
-        raise ValueError(f"{PLUGIN}: {path}: cannot read ({error})") from None
-
-
-def one_line(text: str) -> str:
-    lines = [line.strip() for line in text.strip().splitlines() if line.strip()]
-    return "; ".join(lines)
+        raise FileAccessError(f"{PLUGIN}: {path}: cannot read ({error})") from None
 
 
 def whole_sphere_grid(photometry):
@@ -375,10 +371,10 @@ class IESLight(delta.DeltaLight):
         mi.Emitter.__init__(self, props)
         for name, advice in REFUSED.items():
             if name in props:
-                raise ValueError(f"{PLUGIN}: parameter '{name}' does not apply ({advice})")
+                raise ParameterError(f"{PLUGIN}: parameter '{name}' does not apply ({advice})")
         self.plugin_name = PLUGIN
         if "filename" not in props:
-            raise ValueError(f"{PLUGIN}: parameter 'filename' is required (an .ies or .ldt "
+            raise ParameterError(f"{PLUGIN}: parameter 'filename' is required (an .ies or .ldt "
                              "photometric file)")
         self.filename = params.read_string(props, PLUGIN, "filename", params.REQUIRED)
         self.path, self.photometry = read_profile(self.filename)
@@ -393,7 +389,7 @@ class IESLight(delta.DeltaLight):
             value = params.read_float(props, PLUGIN, "luminous_flux", None, minimum=0.0,
                                       finite=True)
             if not self.file_flux > 0.0:
-                raise ValueError(
+                raise ParameterError(
                     f"{PLUGIN}: parameter 'luminous_flux' cannot rescale {self.path}: its "
                     f"profile emits no light (flux {self.file_flux:g} lm)"
                 )
@@ -413,10 +409,10 @@ class IESLight(delta.DeltaLight):
 
         system, outer, inner, candela = profile_grid(self.photometry)
         if outer.size < 2 or inner.size < 2:
-            raise ValueError(f"{PLUGIN}: {self.path}: a Type B profile needs two angles or "
+            raise ParameterError(f"{PLUGIN}: {self.path}: a Type B profile needs two angles or "
                              "more in each direction (it covers no solid angle)")
         if not (np.all(np.isfinite(candela)) and np.all(candela >= 0.0)):
-            raise ValueError(f"{PLUGIN}: {self.path}: candela values must be finite and >= 0")
+            raise ParameterError(f"{PLUGIN}: {self.path}: candela values must be finite and >= 0")
         self.system = system
         self.n_inner = inner.size
         self.outer_axis, self.inner_axis = Axis(outer), Axis(inner)
@@ -428,7 +424,7 @@ class IESLight(delta.DeltaLight):
         self.outer_rad = mi.Float(np.radians(outer).astype(np.float32))
         omega, weights = cell_weights(outer, inner, candela, system)
         if not float(weights.sum()) > 0.0:
-            raise ValueError(f"{PLUGIN}: {self.path}: the profile emits no light (every "
+            raise ParameterError(f"{PLUGIN}: {self.path}: the profile emits no light (every "
                              "candela value is 0)")
         self.cell_omega = mi.Float(omega.astype(np.float32).ravel())  # i_o * (n_i - 1) + i_i
         pmf, probability, alias = alias_table(weights)
@@ -557,7 +553,7 @@ class IESLight(delta.DeltaLight):
         for name, array in values:
             value = float(dr.slice(dr.detach(array)))
             if not value >= 0.0:
-                raise ValueError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {value:g})")
+                raise ParameterError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {value:g})")
         luminous.check_luminous_content(self.intensity, PLUGIN, "spectrum")
         self._update()
 

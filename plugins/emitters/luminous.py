@@ -90,6 +90,8 @@ from typing import TYPE_CHECKING
 import drjit as dr
 import mitsuba as mi
 
+from spectrace.errors import ParameterError
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -198,7 +200,7 @@ def check_luminous_content(texture, plugin: str, name: str = "spectrum") -> floa
     not positive (a light of that spectrum would need infinite power per lumen)."""
     integral = photometric_integral(texture)
     if not integral > 0.0:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' has no luminous content (integral of "
             f"V(lambda) s(lambda) is {integral:g}): a light in candela or lumens needs a "
             "spectrum that the eye can see"
@@ -226,7 +228,7 @@ def luminous_efficacy(texture) -> float:
     import numpy as np
 
     if not mi.is_spectral:
-        raise ValueError("the luminous efficacy of a spectrum needs a spectral variant")
+        raise ParameterError("the luminous efficacy of a spectrum needs a spectral variant")
     values = evaluate_on_grid(texture)
     # trapezoidal rule: s need not vanish at the ends of the range, unlike V
     integral = float(np.sum(values) - 0.5 * (values[0] + values[-1]))
