@@ -186,7 +186,8 @@ def render_passes(
     import mitsuba as mi
 
     check_sample_counts(spp, spp_per_pass)  # before the default pass size reads them
-    check_seed(seed)
+    seed, spp = check_seed(seed), int(spp)
+    spp_per_pass = None if spp_per_pass is None else int(spp_per_pass)
     sizes = pass_sizes(spp, scene_spp_per_pass(scene, spp, spp_per_pass, sensor))
     accum = None  # flat float64 sum of the passes weighted by their spp
     shape = None

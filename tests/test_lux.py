@@ -71,7 +71,7 @@ def test_parse_plane():
 @pytest.mark.parametrize("text", ["0,0.85,0", "0,0.85 0,1,0", "a,b,c 0,1,0", "0,1,0 0,1,0 1",
                                   "0,1,0 0,nan,1", "0,1,0 0,0,0", ""])
 def test_malformed_plane_is_a_user_error(text):
-    """Anything else is a one-line UserError showing the expected form."""
+    """Anything else is a one-line ParameterError showing the expected form."""
     from spectrace.lux import parse_plane
 
     with pytest.raises(ParameterError, match="--plane") as info:
@@ -82,7 +82,7 @@ def test_malformed_plane_is_a_user_error(text):
 def test_parse_plane_extreme_numbers():
     """A normal of huge or tiny components is normalised without overflow or underflow
     (1e300,1e300,0 became the zero normal, 'parallel to the view'); a point beyond float32,
-    which the renderer would make infinite, is a one-line UserError naming --plane."""
+    which the renderer would make infinite, is a one-line ParameterError naming --plane."""
     from spectrace.lux import parse_plane
 
     _, normal = parse_plane("0,0,0 1e300,1e300,0")
@@ -188,7 +188,7 @@ def test_work_plane_pixels_without_data(variant_rgb):
 
 def test_plane_parallel_to_the_view_is_a_user_error(variant_rgb):
     """An orthographic camera looking horizontally never meets a horizontal plane: a
-    one-line UserError before rendering; a plane behind a perspective camera too."""
+    one-line ParameterError before rendering; a plane behind a perspective camera too."""
     import mitsuba as mi
 
     from spectrace.lux import render_lux
@@ -231,7 +231,7 @@ def test_exr_and_png(variant_rgb, tmp_path):
 
 def test_scene_tree_for_the_command():
     """The integrators become one ``illuminance``; each sensor's film a box-filtered
-    hdrfilm keeping its id and size parameters verbatim ($res); no sensor: UserError."""
+    hdrfilm keeping its id and size parameters verbatim ($res); no sensor: ParameterError."""
     from spectrace.lux import lux_scene_tree
 
     root = ET.fromstring(
@@ -281,7 +281,7 @@ def test_display_exposure_declared_but_unused_is_left_alone():
 
 
 def test_seed_range():
-    """Seeds are stored as 32-bit EXR integers: outside that range a UserError (the header
+    """Seeds are stored as 32-bit EXR integers: outside that range a ParameterError (the header
     wrapped 99999999999 to 1215752191)."""
     from spectrace.passes import check_seed
 
