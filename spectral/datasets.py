@@ -105,7 +105,7 @@ def colorchecker(chart: str = DEFAULT_CHART):
     try:
         sds = colour.SDS_COLOURCHECKERS[chart]
     except KeyError:
-        raise ValueError(
+        raise ParameterError(
             f"colorchecker: unknown chart {chart!r}; one of "
             f"{', '.join(k for k in colour.SDS_COLOURCHECKERS if ' ' in k)}"
         ) from None
@@ -174,9 +174,9 @@ def to_mitsuba_spectrum(wavelengths, values, extrapolation: str = "constant") ->
     """
     wl, v = check_spd(wavelengths, values, "to_mitsuba_spectrum")
     if v.ndim != 1:
-        raise ValueError(f"to_mitsuba_spectrum: values must be 1-D (got shape {v.shape})")
+        raise ParameterError(f"to_mitsuba_spectrum: values must be 1-D (got shape {v.shape})")
     if extrapolation not in ("constant", "zero"):
-        raise ValueError(f"to_mitsuba_spectrum: unknown extrapolation {extrapolation!r}")
+        raise ParameterError(f"to_mitsuba_spectrum: unknown extrapolation {extrapolation!r}")
     v = np.asarray(v, np.float64)
     if wl.size == 1:
         wl, v = np.array([wl[0], wl[0] + 1.0]), np.repeat(v, 2)

@@ -160,7 +160,8 @@ def read_spectral_exr(path, kind: str | None = None, with_header: bool = False):
     prefixes = [KINDS[kind]] if kind is not None else ["S0", "T"]
     component = next((p for p in prefixes if p in found), None)
     if component is None:
-        raise FileFormatError(f"{path}: no spectral channels ({' or '.join(p + '.*' for p in prefixes)})")
+        raise FileFormatError(
+            f"{path}: no spectral channels ({' or '.join(p + '.*' for p in prefixes)})")
     entries = sorted(found[component], key=lambda e: e[0])
     wavelengths = np.array([e[0] for e in entries])
     image = np.stack([np.asarray(e[1], np.float32) for e in entries], axis=-1)
