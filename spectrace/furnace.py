@@ -111,6 +111,9 @@ def directional_albedo(bsdf, angles=DEFAULT_ANGLES, samples: int = DEFAULT_SAMPL
     angles = np.asarray(angles, dtype=float).ravel()
     if angles.size == 0 or np.any((angles < 0) | (angles > 90)) or samples < 1:
         raise ParameterError("angles must lie in [0, 90] degrees and samples must be >= 1")
+    from spectrace.memory import check_furnace
+
+    check_furnace(int(samples), angles.size)
     n = angles.size * samples
     theta = np.repeat(np.radians(angles), samples)
 

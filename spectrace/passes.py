@@ -189,6 +189,9 @@ def render_passes(
     seed, spp = check_seed(seed), int(spp)
     spp_per_pass = None if spp_per_pass is None else int(spp_per_pass)
     sizes = pass_sizes(spp, scene_spp_per_pass(scene, spp, spp_per_pass, sensor))
+    from spectrace.memory import check_pass
+
+    check_pass(scene, sizes[0], sensor)  # the film and a pass fit (32-bit arrays, memory)
     accum = None  # flat float64 sum of the passes weighted by their spp
     shape = None
     done = 0

@@ -16,7 +16,8 @@ from pathlib import Path
 
 from spectrace.commands import add_render_options, check_render_options, progress_bar
 from spectrace.errors import UsageError
-from spectrace.passes import scene_spp
+from spectrace.memory import check_pass
+from spectrace.passes import scene_spp, scene_spp_per_pass
 
 FILMS = ("rgb", "spectral")
 DEFAULT_BANDS = 16
@@ -113,6 +114,8 @@ def run(args) -> int:
             scene = load_scene(scene_path, params, root=root)
         else:
             scene = load_scene(scene_path, params)
+        check_pass(scene, scene_spp_per_pass(scene, args.spp or scene_spp(scene),
+                                             args.spp_per_pass), name="--spp-per-pass")
         loaded.append((scene, wavelengths))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
