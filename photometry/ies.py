@@ -222,15 +222,19 @@ def count_text(n: int) -> str:
     return digits if len(digits) <= 12 else f"about 10^{len(digits) - 1}"
 
 
+#: The largest intensity (cd) whose flux (at most 4 pi I) a float32 renderer still holds.
+FLOAT32_CANDELA = float(np.finfo(np.float32).max) / (4 * np.pi)
+
+
 def check_finite(path: Path, values: np.ndarray, factor: float) -> None:
     """FileFormatError unless ``values * factor`` (the candela table with the file's factors
     applied) is finite: huge factors or values must not make infinite intensities."""
     with np.errstate(over="ignore", invalid="ignore"):
-        ok = np.isfinite(factor) and bool(np.all(np.isfinite(values * factor)))
+        ok = np.isfinite(factor) and bool(np.all(np.abs(values * factor) <= FLOAT32_CANDELA))
     if not ok:
         raise FileFormatError(
             f"{path}: candela values: the intensities times the file's factors ({factor:g}) "
-            "overflow (not finite numbers)"
+            f"overflow (not finite, or beyond {FLOAT32_CANDELA:.3g} cd in float32)"
         )
 
 

@@ -6,7 +6,8 @@ follows one contract:
 * no coercion from the wrong XML type: a ``<string value="no"/>`` where a ``boolean``
   belongs, a ``<string>`` where a ``float`` belongs, a ``<float>`` where an ``integer``
   belongs are errors (an ``<integer>`` is accepted for a float, as Mitsuba does);
-* a value out of range (NaN included) is an error;
+* a value out of range (NaN included) is an error, and so is a non-finite spectrum or
+  texture value or one beyond float32 (``power=1e39``);
 * a reflectance texture is checked against its range: by value for a ``float`` or
   ``rgb``, else by evaluating it (on a grid of uv positions and, in spectral variants,
   of wavelengths); a texture that cannot be evaluated for the check is refused, never
@@ -53,6 +54,8 @@ GRID_NM = (360.0, 830.0)
 #: Slack of the range check of evaluated textures (float32 spectral upsampling of an
 #: RGB value in [0, 1] may exceed 1 by a few ulps).
 RANGE_SLACK = 1e-5
+#: The largest float32: a parameter beyond it becomes infinite in Mitsuba.
+FLOAT32_MAX = 3.4028234663852886e38
 
 
 def xml_type(props, name: str) -> str:
@@ -108,8 +111,9 @@ def read_float(props, plugin: str, name: str, default, *, minimum=None, maximum=
             f"{plugin}: parameter '{name}' must be a float (got {_got(props, name)})"
         )
     value = float(props.get(name))
-    if finite and not math.isfinite(value):
-        raise ParameterError(f"{plugin}: parameter '{name}' must be a finite float (got {value:g})")
+    if finite and not _finite32(value):
+        raise ParameterError(f"{plugin}: parameter '{name}' must be a finite float "
+                             f"(got {value:g}{_beyond32(value)})")
     return _check_range(plugin, name, value, "a float", minimum, maximum, strict_minimum)
 
 
@@ -271,6 +275,10 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
     if rule is not None:
         rule = f"{noun} {rule}" if noun else rule
     given = _given_values(props, name)
+    if given is not None and not all(_finite32(v) for v in given):
+        shown = ", ".join(f"{v:g}" for v in given)
+        raise ParameterError(f"{plugin}: parameter '{name}' must be finite (got {shown}"
+                             f"{max((_beyond32(v) for v in given), key=len)})")
     if given is not None and rule is not None:
         low, high = min(given), max(given)
         if not _in_range(low, high, minimum, maximum, 0.0):
@@ -291,11 +299,21 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
         try:
             low, high = texture_range(texture)
         except Exception as error:  # noqa: BLE001 - refused, never accepted unchecked
+            if not mi.is_spectral and "non-spectral" in str(error):  # e.g. a blackbody
+                raise ParameterError(
+                    f"{plugin}: parameter '{name}': {texture.class_name()} needs a spectral "
+                    f"variant (e.g. llvm_ad_spectral; this is {mi.variant()})"
+                ) from None
             raise ParameterError(
                 f"{plugin}: parameter '{name}' must be {rule}, and {texture.class_name()} "
                 f"cannot be evaluated to check it in variant {mi.variant()} "
                 f"({first_line(error)})"
             ) from None
+        if not (math.isfinite(low) and math.isfinite(high)):
+            raise ParameterError(
+                f"{plugin}: parameter '{name}' must be finite (got {texture.class_name()} "
+                f"with values from {low:g} to {high:g})"
+            )
         if not _in_range(low, high, minimum, maximum, RANGE_SLACK):
             raise ParameterError(
                 f"{plugin}: parameter '{name}' must be {rule} (got {texture.class_name()} "
@@ -315,6 +333,16 @@ def read_spectrum(props, plugin: str, name: str, default, *, minimum=0.0, maximu
     """A spatially uniform spectrum (>= ``minimum``), by default an emission spectrum."""
     return read_texture(props, plugin, name, default, minimum=minimum, maximum=maximum,
                         emissive=emissive, uniform=True, what="a spectrum", noun="")
+
+
+def _finite32(value: float) -> bool:
+    """Finite, and still finite as the float32 that Mitsuba stores (|value| <= FLOAT32_MAX)."""
+    return math.isfinite(value) and abs(value) <= FLOAT32_MAX
+
+
+def _beyond32(value: float) -> str:
+    """', beyond float32' for a finite value that float32 makes infinite, else ''."""
+    return ", beyond float32" if math.isfinite(value) and abs(value) > FLOAT32_MAX else ""
 
 
 def _rule(minimum, maximum):

@@ -8,6 +8,7 @@ file, line and parameter.
 
 from __future__ import annotations
 
+import math
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -96,6 +97,7 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     if tree.tag != "scene":
         raise FileFormatError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
     params = {k: str(v) for k, v in (params or {}).items()}
+    check_finite_numbers(tree, params, path)
     from spectrace import registry
 
     with defer_sigint():  # plugin modules execute Mitsuba calls: no Ctrl-C inside them
@@ -134,7 +136,8 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     if not scene.sensors():
         raise FileFormatError(f"scene {path}: no <sensor> to render from")
     if scene.integrator() is None:
-        raise FileFormatError(f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
+        raise FileFormatError(
+            f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
     for sensor in scene.sensors():
         film = sensor.film()
         width, height = (int(v) for v in film.crop_size())
@@ -145,6 +148,58 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
                 f"{'' if full == f'{width}x{height}' else f', full size {full}'})"
             )
     return scene
+
+
+#: The elements of a Mitsuba scene that hold numbers, and their attributes that do.
+_NUMBER_ATTRIBUTES = {
+    "float": ("value",), "rgb": ("value",), "spectrum": ("value",),
+    "point": ("value", "x", "y", "z"), "vector": ("value", "x", "y", "z"),
+    "translate": ("value", "x", "y", "z"), "scale": ("value", "x", "y", "z"),
+    "rotate": ("value", "x", "y", "z", "angle"), "matrix": ("value",),
+    "lookat": ("origin", "target", "up"),
+}
+#: The largest float32: Mitsuba stores scene numbers in float32, so beyond it is infinite.
+FLOAT32_MAX = 3.4028234663852886e38
+
+
+def check_finite_numbers(tree: ET.Element, params: dict[str, str] | None = None,
+                         path: str | Path = "scene") -> None:
+    """FileFormatError unless every number the scene gives (emission, positions, transforms,
+    ... : the attributes of :data:`_NUMBER_ATTRIBUTES`, with ``$name`` replaced by
+    ``params`` or the scene's ``<default>``) is finite in float32: an infinite intensity, a
+    power of 1e39 or a NaN translation would render a black image without an error."""
+    values = {**scene_defaults(tree), **(params or {})}
+    parents = {child: parent for parent in tree.iter() for child in parent}
+    for element in tree.iter():
+        for attribute in _NUMBER_ATTRIBUTES.get(element.tag, ()):
+            text = element.get(attribute)
+            if text is None:
+                continue
+            text = _PARAMETER.sub(lambda m: values.get(m.group(1), m.group(0)), text)
+            for token in text.replace(",", " ").replace(":", " ").split():
+                try:
+                    number = float(token)
+                except ValueError:
+                    continue  # a file name, a $name left unset: Mitsuba says what it is
+                if not (math.isfinite(number) and abs(number) <= FLOAT32_MAX):
+                    raise FileFormatError(
+                        f"scene {path}: {_where(element, parents)}: {attribute}={text!r} "
+                        f"must be finite{' (beyond float32)' if math.isfinite(number) else ''}")
+
+
+def _where(element: ET.Element, parents: dict) -> str:
+    """``emitter 'light' (point): <rgb name="intensity">``: the element and its plugin."""
+    name = element.get("name")
+    shown = f'<{element.tag} name="{name}">' if name else f"<{element.tag}>"
+    parent = parents.get(element)
+    while parent is not None and parent.get("type") is None:
+        if parent.get("name"):
+            shown = f'<{parent.tag} name="{parent.get("name")}"> {shown}'
+        parent = parents.get(parent)
+    if parent is None or parent.tag == "scene":
+        return shown
+    ident = f" '{parent.get('id')}'" if parent.get("id") else ""
+    return f"{parent.tag}{ident} ({parent.get('type')}): {shown}"
 
 
 def plugin_names(tree: ET.Element, params: dict[str, str] | None = None) -> set[str]:

@@ -100,7 +100,7 @@ def _float_value(props, plugin: str, name: str) -> float:
             f"(got a {params.xml_type(props, name)}); give the spectral shape as "
             "parameter 'spectrum'"
         )
-    return params.read_float(props, plugin, name, params.REQUIRED, minimum=0.0)
+    return params.read_float(props, plugin, name, params.REQUIRED, minimum=0.0, finite=True)
 
 
 def _uniform_texture(props, plugin: str, name: str, default):
