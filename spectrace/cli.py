@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 
-from spectrace.errors import SpectraceError
+from spectrace.errors import SpectraceError, UsageError
 
 #: subcommand -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -35,11 +36,20 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 EXIT_USAGE = 2
+#: A negative number, or a comma- or space-separated list that starts with one.
+_NEGATIVE_NUMBERS = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:[, ].*)?$")
 EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with the project's one-line error format and exit status 2."""
+    """argparse with the project's one-line error format and exit status 2, and option values
+    that are negative numbers or lists of them (``--range -5,10``, ``--angles -30,0``) taken
+    as values, not as options."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # argparse's own test takes "-5" and "-0.5" as numbers, not "-5,10" or "-1e3"
+        self._negative_number_matcher = _NEGATIVE_NUMBERS
 
     def error(self, message):
         self.exit(EXIT_USAGE, f"error: {message}\n")
@@ -84,6 +94,9 @@ def main(argv: list[str] | None = None) -> int:
         from spectrace.mitsuba_log import configure_cli
 
         configure_cli(getattr(args, "verbose", False))
+        output = getattr(args, "output", None)
+        if isinstance(output, str) and not output.strip():  # -o '' would mean "./"
+            raise UsageError("-o: the output path is empty")
         code = int(args._module.run(args) or 0)
         sys.stdout.flush()  # a closed pipe shows here, not in Python's flush at exit
         return code

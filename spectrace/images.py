@@ -62,7 +62,9 @@ def check_writable(path: str | os.PathLike) -> Path:
         with tempfile.NamedTemporaryFile(dir=path.parent, prefix=f".{path.stem}.probe"):
             pass
     except OSError as e:
-        raise FileAccessError(f"cannot write output {path}: {e.strerror or e}") from None
+        blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+        reason = f"{blocker} is a file, not a folder" if blocker else e.strerror or e
+        raise FileAccessError(f"cannot write output {path}: {reason}") from None
     return path
 
 

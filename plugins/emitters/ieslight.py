@@ -183,8 +183,9 @@ def read_profile(filename: str):
         where = ""
         if not Path(filename).is_absolute():  # say where a relative name was looked up
             folders = [str(resolver[i]) for i in range(len(resolver))]
-            folders = [f for f in folders if f and Path(f).name != "mitsuba"] or folders
-            where = f" (looked in {', '.join(dict.fromkeys(folders))})"
+            folders = [f for f in folders if Path(f).name != "mitsuba"] or folders
+            folders = dict.fromkeys(str(Path(f or ".").resolve()) for f in folders)
+            where = f" (looked in {', '.join(folders)})"
         raise FileAccessError(f"{PLUGIN}: parameter 'filename': {what}{where}")
     try:
         return path, read_photometry(path)
