@@ -14,7 +14,7 @@ import argparse
 import ast
 import importlib.util
 
-from spectrace.errors import UsageError
+from spectrace.errors import UsageError, first_line
 
 #: Modules of ``spectrace.plugins`` that are helper pages but not in PLUGIN_MODULES.
 EXTRA_PAGES = ("params",)
@@ -79,15 +79,27 @@ def kind(module: str) -> str:
     return "helper"
 
 
+#: Helper modules whose pages describe the machinery of plugins, not what a user sets: they
+#: print with ``spectrace help NAME`` but are not listed.
+UNLISTED = ("lobes", "delta")
+
+
 def listing() -> str:
-    rows = []
+    """The plugins, one line each, then the helper pages that their pages refer to."""
+    rows, helpers = [], []
     for name, module in pages().items():
+        plugin_kind = kind(module)
+        if plugin_kind == "helper":
+            if name not in UNLISTED:
+                helpers.append(name)
+            continue
         doc = ast.get_docstring(ast.parse(_source(module))) or ""
-        first = doc.strip().splitlines()[0] if doc.strip() else ""
+        first = first_line(doc)
         first = first.split(":", 1)[1].strip() if first.startswith("``") and ":" in first \
             else first
-        rows.append(f"  {name:<12} {kind(module):<11} {first.replace('``', '')}")
-    return ("spectrace help NAME prints the reference page of:\n" + "\n".join(rows)
+        rows.append(f"  {name:<12} {plugin_kind:<11} {first.replace('``', '')}")
+    return ("spectrace help NAME prints the reference page of a plugin:\n" + "\n".join(rows)
+            + f"\nor of what the plugins share: {', '.join(helpers)};"
             + "\nand spectrace help COMMAND the options of a command.")
 
 
