@@ -20,8 +20,9 @@ found through :mod:`spectrace.scenes`, so they work from a wheel), display and t
 helpers (:func:`display`, :func:`text_table`), :func:`luminance`, single-hit AOVs
 (:func:`aov`) and :func:`save_figure` (a notebook's key figures for the README's gallery,
 written only when ``make gallery`` sets ``SPECTRACE_GALLERY``). A notebook imports its
-study, e.g. ``from spectrace.studies import light_falloff as study``; each study module also offers
-the shared helpers it uses under its own name (``study.budget``, ``study.display``).
+study, e.g. ``from spectrace.studies import light_falloff as study``; each study module
+also offers the shared helpers it uses under its own name (``study.budget``,
+``study.display``).
 """
 
 from __future__ import annotations
