@@ -114,7 +114,7 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
     from distributed import Client
 
     if workers is not None and scheduler:
-        raise ParameterError("--workers and --scheduler exclude each other")
+        raise ParameterError("workers and scheduler exclude each other")
     quiet_logs()
     cluster = None
     if scheduler:
@@ -144,7 +144,7 @@ def check_address(address: str) -> None:
     try:
         get_address_host_port(address if "://" in address else f"tcp://{address}")
     except (ValueError, TypeError) as e:
-        raise ParameterError(f"--scheduler {address}: not a scheduler address such as "
+        raise ParameterError(f"scheduler {address}: not a scheduler address such as "
                              f"tcp://host:8786 ({first_line(e)})") from None
 
 

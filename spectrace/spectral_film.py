@@ -131,7 +131,7 @@ def film_to_bands(image, wavelengths) -> np.ndarray:
 
 def _check(bands, wavelength_range):
     if isinstance(bands, bool) or not isinstance(bands, (int, np.integer)) or bands < 1:
-        raise ParameterError(f"--bands must be an integer >= 1 (got {bands!r})")
+        raise ParameterError(f"bands must be an integer >= 1 (got {bands!r})")
     try:
         lo, hi = (float(x) for x in wavelength_range)
     except (TypeError, ValueError):
