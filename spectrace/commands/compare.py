@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import DEFAULT_VARIANT
+from spectrace.commands import add_verbose
 from spectrace.errors import UsageError
 
 SCENE_SUFFIXES = (".xml",)
@@ -41,6 +42,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the -D options that follow set the second side (B) of one scene")
     parser.add_argument("-o", "--output", default="out/compare.png",
                         help="side-by-side PNG (default out/compare.png)")
+    add_verbose(parser)
 
 
 class _SideDefine(argparse.Action):
