@@ -25,15 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 LIBRARY = [p for folder in ("spectrace", "plugins", "spectral", "photometry")
            for p in (ROOT / folder).rglob("*.py")
            if "commands" not in p.parts and p.name != "cli.py"]
-TINY_SCENE = """<scene version="3.0.0">
-    <integrator type="path"/>
-    <sensor type="perspective">
-        <film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/>
-        </film>
-        <sampler type="independent"><integer name="sample_count" value="1"/></sampler>
-    </sensor>
-    <shape type="sphere"/>
-</scene>"""
+SHOWCASE = ROOT / "scenes" / "showcase.xml"
 
 
 def test_classes_are_the_builtin_types_a_caller_expects():
@@ -68,12 +60,10 @@ def test_library_raises_no_usage_error_and_names_no_flag_of_render():
 
 
 @pytest.fixture(scope="module")
-def tiny_scene(tmp_path_factory, variant_rgb_module):
+def tiny_scene(variant_rgb_module):
     from spectrace.scene import load_scene
 
-    path = tmp_path_factory.mktemp("errors") / "tiny.xml"
-    path.write_text(TINY_SCENE)
-    return load_scene(path)
+    return load_scene(SHOWCASE, {"res": "4"})
 
 
 @pytest.fixture(scope="module")
@@ -109,7 +99,7 @@ def test_numpy_integers_are_sample_counts(tiny_scene):
 
     import spectrace
 
-    assert spectrace.render(tiny_scene, spp=np.int64(2), seed=np.int32(1)).spp == 2
+    assert spectrace.render(tiny_scene, spp=np.int64(4), seed=np.int32(1)).spp == 4
 
 
 def test_plugin_error_comes_back_as_its_class(variant_rgb_module, tmp_path):
