@@ -167,17 +167,15 @@ def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
 
 def render_passes(
     scene,
-    spp: int | None,
+    spp: int,
     seed: int = 0,
     spp_per_pass: int | None = None,
     sensor: int = 0,
     integrator=None,
     on_pass: Callable[[int, int], None] | None = None,
 ) -> RenderResult:
-    """Render ``scene`` with ``spp`` samples per pixel (None: the scene's own) in passes of
-    ``spp_per_pass`` (None: :func:`default_spp_per_pass`); see the module docstring.
-    A count that is not a positive integer, or a seed beyond 32 bits, is a
-    :class:`~spectrace.errors.ParameterError` naming it.
+    """Render ``scene`` with ``spp`` samples per pixel in passes of ``spp_per_pass`` (None:
+    :func:`default_spp_per_pass`); see the module docstring.
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
@@ -188,8 +186,7 @@ def render_passes(
     import mitsuba as mi
 
     check_sample_counts(spp, spp_per_pass)  # before the default pass size reads them
-    seed = check_seed(seed)
-    spp = scene_spp(scene, sensor) if spp is None else int(spp)
+    seed, spp = check_seed(seed), int(spp)
     spp_per_pass = None if spp_per_pass is None else int(spp_per_pass)
     sizes = pass_sizes(spp, scene_spp_per_pass(scene, spp, spp_per_pass, sensor))
     from spectrace.memory import check_pass

@@ -94,14 +94,12 @@ def test_render_names_its_parameters(tiny_scene, kwargs, words):
 
 
 def test_numpy_integers_are_sample_counts(tiny_scene):
-    """A numpy integer is a valid count (operator.index), as Python ints are; None is the
-    scene's own count."""
+    """A numpy integer is a valid count (operator.index), as Python ints are."""
     import numpy as np
 
     import spectrace
 
     assert spectrace.render(tiny_scene, spp=np.int64(4), seed=np.int32(1)).spp == 4
-    assert spectrace.render(tiny_scene, spp=None).spp == 256  # the scene's own
 
 
 def test_plugin_error_comes_back_as_its_class(variant_rgb_module, tmp_path):
