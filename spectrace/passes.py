@@ -175,7 +175,9 @@ def render_passes(
     on_pass: Callable[[int, int], None] | None = None,
 ) -> RenderResult:
     """Render ``scene`` with ``spp`` samples per pixel in passes of ``spp_per_pass`` (None:
-    :func:`default_spp_per_pass`); see the module docstring.
+    :func:`default_spp_per_pass`); see the module docstring. A count that is not a positive
+    integer, a seed beyond 32 bits or a film too large (:mod:`spectrace.memory`) is a
+    :class:`~spectrace.errors.ParameterError` naming it.
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
