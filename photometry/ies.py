@@ -121,7 +121,8 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
         None,
     )
     if tilt_at is None:
-        raise FileFormatError(f"{path}: TILT: no 'TILT=' line (not an IES LM-63 file, or truncated)")
+        raise FileFormatError(
+            f"{path}: TILT: no 'TILT=' line (not an IES LM-63 file, or truncated)")
     keywords = _keywords(lines[start:tilt_at])
     tilt_spec = lines[tilt_at].split("=", 1)[1].strip()
     tokens = _Tokens(_SEPARATORS.split("\n".join(lines[tilt_at + 1 :])), path)
@@ -146,7 +147,8 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
     n_lamps = tokens.integer("number of lamps", minimum=1)
     lumens = tokens.number("lumens per lamp")
     if lumens <= 0 and lumens != -1:
-        raise FileFormatError(f"{path}: lumens per lamp: must be > 0 or -1 (absolute) (got {lumens:g})")
+        raise FileFormatError(
+            f"{path}: lumens per lamp: must be > 0 or -1 (absolute) (got {lumens:g})")
     multiplier = tokens.number("candela multiplier")
     if not multiplier > 0:
         raise FileFormatError(f"{path}: candela multiplier: must be > 0 (got {multiplier:g})")
@@ -173,7 +175,8 @@ def parse_ies(path: str | Path, text: str) -> Photometry:
     blpf_field = tokens.number("ballast-lamp photometric factor")
     blpf = blpf_field if fmt in ("LM-63-1986", "LM-63-1991") else 1.0
     if not blpf > 0:
-        raise FileFormatError(f"{path}: ballast-lamp photometric factor: must be > 0 (got {blpf:g})")
+        raise FileFormatError(
+            f"{path}: ballast-lamp photometric factor: must be > 0 (got {blpf:g})")
     watts = tokens.number("input watts")
 
     vertical = tokens.numbers(n_v, "vertical angles")

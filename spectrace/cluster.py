@@ -138,7 +138,7 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
 
 
 def check_address(address: str) -> None:
-    """SpectraceError unless ``address`` reads as a scheduler address, e.g. tcp://host:8786."""
+    """ParameterError unless ``address`` reads as a scheduler address, e.g. tcp://host:8786."""
     from distributed.comm.addressing import get_address_host_port
 
     try:

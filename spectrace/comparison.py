@@ -43,7 +43,7 @@ def compare_images(a: np.ndarray, b: np.ndarray) -> Comparison:
     b = np.asarray(b, dtype=np.float64)[..., :3]
     if a.shape != b.shape:
         raise ParameterError(f"image sizes differ: {a.shape[1]}x{a.shape[0]} and "
-                        f"{b.shape[1]}x{b.shape[0]}")
+                             f"{b.shape[1]}x{b.shape[0]}")
     if not (np.isfinite(a).all() and np.isfinite(b).all()):
         raise ParameterError("an image holds NaN or infinite values")
     display = [encode_srgb(np.clip(x, 0.0, 1.0)) for x in (a, b)]

@@ -72,7 +72,8 @@ class FurnaceResult:
 def load_bsdf(spec):
     """A BSDF from a Mitsuba dict, an XML string or an XML file (active variant).
 
-    Raises :class:`SpectraceError` with Mitsuba's message on one line on failure.
+    Raises :class:`~spectrace.errors.ParameterError` (a bad parameter) or
+    :class:`~spectrace.errors.FileFormatError` (Mitsuba's own error) in one line.
     """
     import mitsuba as mi
 

@@ -156,7 +156,7 @@ def ensure_libllvm(install: bool = True, search_dirs=SEARCH_DIRS, runner=_run) -
                    and hasattr(os, "geteuid") and os.geteuid() == 0)
     if not can_install:
         raise SetupError(f"no libLLVM >= {MIN_LLVM_MAJOR} found; install one with: "
-                        f"{install_hint()}")
+                         f"{install_hint()}")
     runner(["apt-get", "update", "-qq"])
     for package in DEBIAN_PACKAGES:
         if runner(["apt-get", "install", "-y", "-qq", package]) == 0:

@@ -105,7 +105,7 @@ def _floats(text: str, count: int) -> list[float] | None:
 
 
 def parse_plane(text: str) -> Plane:
-    """``"x,y,z nx,ny,nz"`` -> ((x, y, z), unit normal). SpectraceError when malformed."""
+    """``"x,y,z nx,ny,nz"`` -> ((x, y, z), unit normal). ParameterError when malformed."""
     parts = str(text).split()
     point = _floats(parts[0], 3) if len(parts) == 2 else None
     normal = _floats(parts[1], 3) if len(parts) == 2 else None
@@ -166,7 +166,7 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
     """Modify the scene tree ``root`` in place for a lux map: its integrators become one
     ``illuminance``, each sensor's film a box-filtered ``hdrfilm`` (pixel format
     ``luminance``) keeping the film's id and geometry (width, height, crop, values such as
-    ``$res`` copied verbatim). Returns ``root``. SpectraceError when it has no sensor."""
+    ``$res`` copied verbatim). Returns ``root``. ParameterError when it has no sensor."""
     sensors = list(root.iter("sensor"))
     if not sensors:
         raise ParameterError("no <sensor> to measure from")
@@ -217,7 +217,7 @@ def illuminance_integrator(plane: Plane | None = None, max_depth: int | None = N
 
 
 def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
-    """SpectraceError unless some camera ray of a PLANE_CHECK_GRID^2 grid over the film of
+    """ParameterError unless some camera ray of a PLANE_CHECK_GRID^2 grid over the film of
     ``sensor`` (an index into the scene's sensors, or a sensor) crosses the plane in front
     of the camera (not parallel to it, not behind)."""
     import drjit as dr
@@ -246,7 +246,7 @@ def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
 
 def lux_statistics(lux: np.ndarray, valid: np.ndarray) -> tuple[float, float, float, float]:
     """(E_min, E_mean, E_max, U0 = E_min / E_mean) over the pixels with data (U0 NaN when
-    E_mean is 0). SpectraceError when no pixel has data."""
+    E_mean is 0). ParameterError when no pixel has data."""
     values = np.asarray(lux, dtype=np.float64)[np.asarray(valid, dtype=bool)]
     if values.size == 0:
         raise ParameterError("no pixel measured a point (nothing in view, or the work plane "
@@ -265,7 +265,7 @@ def render_lux(scene, spp: int, seed: int = 0, plane: Plane | None = None,
     direct light) > 1 adds interreflections. ``sensor``: an index into the scene's sensors
     or a sensor object. The scene's integrator is not used; the film must have AOV channels
     (``hdrfilm``: box-filter it for pixel means over footprints).
-    SpectraceError when the plane is not in view or no pixel has data.
+    ParameterError when the plane is not in view or no pixel has data.
     """
     from spectrace.passes import render_passes
 

@@ -68,7 +68,8 @@ def parse_defines(defines: list[str] | None) -> dict[str, str]:
 
 
 def read_scene_xml(path: str | Path) -> ET.Element:
-    """Parse the scene file; a missing or malformed file is a SpectraceError naming it."""
+    """Parse the scene file; a missing file is a FileAccessError, a malformed one a
+    FileFormatError, naming it."""
     path = Path(path)
     if path.is_dir():
         raise FileAccessError(f"scene {path}: is a folder, not a scene file")
@@ -85,7 +86,7 @@ def read_scene_xml(path: str | Path) -> ET.Element:
 def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None):
     """Load a Mitsuba scene to render from ``path`` with XML parameters ``params`` (``$name``).
 
-    The scene must have a sensor and an integrator (SpectraceError otherwise).
+    The scene must have a sensor and an integrator (FileFormatError otherwise).
 
     ``root``, when given, is a (possibly modified) parsed tree of that file: it is loaded
     instead of the file, with relative asset paths still resolved against the file's folder.

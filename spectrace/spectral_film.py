@@ -139,7 +139,8 @@ def _check(bands, wavelength_range):
             f"wavelength range must be two numbers in nm (got {wavelength_range!r})"
         ) from None
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
-        raise ParameterError(f"wavelength range must satisfy 0 < lo < hi nm (got {wavelength_range!r})")
+        raise ParameterError(
+            f"wavelength range must satisfy 0 < lo < hi nm (got {wavelength_range!r})")
     return lo, hi
 
 

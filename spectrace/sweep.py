@@ -50,7 +50,7 @@ _UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
 def parse_sweep_defines(defines: Iterable[str]) -> dict[str, list[str]]:
     """``["name=v1,v2", ...]`` (``-D`` options) -> ``{name: [v1, v2]}``, in order.
 
-    SpectraceError for an item without ``=``, an empty name or no values (``-D name=``).
+    ParameterError for an item without ``=``, an empty name or no values (``-D name=``).
     A name given twice collects the values of both. ``\\,`` is a comma inside a value
     (``-D color=0.2\\,0.5\\,0.9,1\\,1\\,1``: two RGB values).
     """
@@ -143,7 +143,7 @@ class Grid:
     @classmethod
     def make(cls, scene, params: Mapping[str, Sequence | str | float], variants=None,
              seeds=None, spp: int | None = None, spp_per_pass: int | None = None) -> Grid:
-        """Check everything that can be checked before rendering (SpectraceError otherwise).
+        """Check everything that can be checked before rendering (ParameterError otherwise).
 
         ``params`` values may be one value or a sequence; each name must be a ``<default>``
         of the scene; ``variants`` and ``seeds`` one value or a sequence.
@@ -160,7 +160,8 @@ class Grid:
         for name, values in params.items():
             if name not in defaults:
                 known = ", ".join(defaults) or "none"
-                raise ParameterError(f"-D {name}: not a <default> of scene {scene} (it has: {known})")
+                raise ParameterError(
+                    f"-D {name}: not a <default> of scene {scene} (it has: {known})")
             values = [values] if isinstance(values, str | int | float) else list(values)
             values = [_format(v) for v in values]
             if not values or any(v == "" for v in values):

@@ -85,14 +85,14 @@ def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
     if args.against:
         if args.variants or args.b is not None:
             raise UsageError("--against compares two settings of one scene: give one scene, "
-                            "no second input and no --variants")
+                             "no second input and no --variants")
         if Path(args.a).suffix.lower() not in SCENE_SUFFIXES:
             raise UsageError(f"--against needs a scene (.xml), got {args.a}")
         side_a = parse_defines(args.defines)
         side_b = {**side_a, **parse_defines(getattr(args, "defines_b", None))}
         if side_a == side_b:
             raise UsageError("--against: side B sets nothing new (give -D name=value after "
-                            "--against): nothing to compare")
+                             "--against): nothing to compare")
         label = Path(args.a).name
         changed = " ".join(f"{k}={v}" for k, v in side_b.items() if side_a.get(k) != v)
         before = " ".join(f"{k}={side_a[k]}" for k in side_b if k in side_a and
@@ -113,11 +113,11 @@ def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
                 _render_scene(Path(args.a), names[1], args), names[0], names[1])
     if args.b is None:
         raise UsageError("give two images or scenes, one scene with --variants, or one scene "
-                        "with -D ... --against -D ...")
+                         "with -D ... --against -D ...")
     if (Path(args.a).suffix.lower() in SCENE_SUFFIXES and Path(args.a).resolve() ==
             Path(args.b).resolve()):
         raise UsageError(f"{args.a} against itself with the same settings and variant: nothing "
-                        "to compare (use -D ... --against -D ..., or --variants)")
+                         "to compare (use -D ... --against -D ..., or --variants)")
     return (_load(args.a, args.variant, args), _load(args.b, args.variant, args),
             Path(args.a).name, Path(args.b).name)
 

@@ -61,8 +61,8 @@ def page(name: str) -> str:
         close = difflib.get_close_matches(name.lower(), modules, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         raise UsageError(f"no page {name!r}; {hint}pages: {', '.join(modules)} (Mitsuba's "
-                        "own plugins, such as path or diffuse, are described at "
-                        "https://mitsuba.readthedocs.io)")
+                         "own plugins, such as path or diffuse, are described at "
+                         "https://mitsuba.readthedocs.io)")
     text = ast.get_docstring(ast.parse(_source(modules[name])), clean=True) or ""
     legend = [f"  {mark} {meaning}" for mark, meaning in MARKS.items() if mark in text]
     if legend:

@@ -54,7 +54,7 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
         outs = [str(Path(output) / f"{s.stem}.exr") for s in scenes]
     elif output is not None and len(scenes) > 1:
         raise UsageError(f"-o {output}: with {len(scenes)} scenes, -o must be a folder "
-                        "(end it with /)")
+                         "(end it with /)")
     else:
         outs = [output] * len(scenes)
     paths = [output_paths(s, o, film) for s, o in zip(scenes, outs, strict=True)]

@@ -119,7 +119,8 @@ def test_we_read_colour_science_file(tmp_path, rng):
 
 
 def test_bad_files_and_input(tmp_path, spectral):
-    """Missing, non-EXR or non-spectral files raise FileAccessError or FileFormatError; bad arrays ValueError."""
+    """Missing, non-EXR or non-spectral files raise FileAccessError or FileFormatError; bad
+    arrays ValueError."""
     img, wl = spectral
     with pytest.raises(FileAccessError, match="no such file"):
         S.read_spectral_exr(tmp_path / "missing.exr")
