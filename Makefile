@@ -54,6 +54,8 @@ $(STAMP): pyproject.toml | $(BIN)/python
 gallery: setup
 	@mkdir -p out/gallery $(GALLERY)
 	$(BIN)/spectrace render scenes/*.xml -o out/gallery/ -q
+	$(BIN)/spectrace render scenes/shadow_acne.xml -D shadow_bias=0.01 -q \
+		-o out/gallery/shadow_acne_biased.exr
 	$(BIN)/python docs/make_gallery.py --renders out/gallery --out $(GALLERY)
 
 # The notebooks executed at full size, as HTML pages for a browser (needs the `lab` extra,

@@ -4,7 +4,9 @@
 ``spectrace render`` into ``out/gallery/``, then runs this script, which
 
 * shrinks each rendered PNG to ``--width`` pixels (Lanczos, sRGB 8 bits as written by
-  ``spectrace render``) into ``OUT/scenes/<scene>.png``;
+  ``spectrace render``) into ``OUT/scenes/<scene>.png``; the scenes of :data:`PAIRS` show
+  two renders side by side (shadow_acne at bias 0 and 0.01), those of
+  :data:`GRID_LABELS` get their rows and columns labelled (phong_vs_energy);
 * executes every notebook of ``notebooks/`` at full size (``SPECTRACE_QUICK`` unset) in
   a kernel running this Python, with ``SPECTRACE_GALLERY=OUT/studies``, so that each
   notebook saves its key figures there (``spectrace.studies.save_figure``); the executed
@@ -33,6 +35,51 @@ SCENE_WIDTH = 320
 #: Seconds a notebook cell may run at full size.
 CELL_TIMEOUT = 3600
 KERNEL_NAME = "spectrace-gallery"
+
+
+#: Scenes whose thumbnail is two renders side by side: scene -> (the second render's PNG
+#: stem, the label of the first, the label of the second). ``make gallery`` renders both.
+PAIRS = {"shadow_acne": ("shadow_acne_biased", "shadow_bias = 0", "shadow_bias = 0.01")}
+#: Labels of a scene's grid: scene -> (row labels top to bottom, column labels).
+GRID_LABELS = {
+    "phong_vs_energy": (("phong", "phong norm.", "blinnphong n.", "roughplastic"),
+                        ("m=2", "m=8", "m=32", "m=128")),
+}
+LABEL_PX = 14  # height of a label strip (pixels)
+
+
+def side_by_side(left: Path, right: Path, target: Path, width: int, labels) -> None:
+    """The two renders side by side, each ``width / 2`` wide, a label above each."""
+    from PIL import Image, ImageDraw
+
+    half = max(1, width // 2)
+    with Image.open(left) as a, Image.open(right) as b:
+        a, b = (im.convert("RGB") for im in (a, b))
+        height = max(1, round(a.height * half / a.width))
+        a, b = (im.resize((half, height), Image.Resampling.LANCZOS) for im in (a, b))
+    sheet = Image.new("RGB", (2 * half, height + LABEL_PX), "white")
+    draw = ImageDraw.Draw(sheet)
+    for i, (image, label) in enumerate(zip((a, b), labels, strict=True)):
+        sheet.paste(image, (i * half, LABEL_PX))
+        draw.text((i * half + 4, 1), label, fill="black")
+    sheet.save(target, optimize=True)
+
+
+def label_grid(target: Path, rows, columns) -> None:
+    """Label a thumbnail of an evenly spaced grid in place: columns above, rows on the left."""
+    from PIL import Image, ImageDraw
+
+    margin = 6 * max(len(r) for r in rows) + 6
+    with Image.open(target) as image:
+        image = image.convert("RGB")
+    sheet = Image.new("RGB", (image.width + margin, image.height + LABEL_PX), "white")
+    sheet.paste(image, (margin, LABEL_PX))
+    draw = ImageDraw.Draw(sheet)
+    for j, label in enumerate(columns):
+        draw.text((margin + (j + 0.3) * image.width / len(columns), 1), label, fill="black")
+    for i, label in enumerate(rows):
+        draw.text((2, LABEL_PX + (i + 0.45) * image.height / len(rows)), label, fill="black")
+    sheet.save(target, optimize=True)
 
 
 def shrink(source: Path, target: Path, width: int) -> None:
@@ -111,9 +158,19 @@ def main(argv=None) -> int:
     if not renders:
         print(f"error: no PNG in {args.renders} (run `make gallery`)", file=sys.stderr)
         return 2
+    seconds = {second for second, _, _ in PAIRS.values()}
     for png in renders:
-        shrink(png, scenes_out / png.name, args.width)
-        print(f"{scenes_out / png.name}")
+        if png.stem in seconds:
+            continue  # shown beside its first render
+        target = scenes_out / png.name
+        pair = PAIRS.get(png.stem)
+        if pair is not None and (png.parent / f"{pair[0]}.png").is_file():
+            side_by_side(png, png.parent / f"{pair[0]}.png", target, args.width, pair[1:])
+        else:
+            shrink(png, target, args.width)
+        if png.stem in GRID_LABELS:
+            label_grid(target, *GRID_LABELS[png.stem])
+        print(f"{target}")
     if not args.no_notebooks:
         for notebook in sorted(NOTEBOOKS.glob("*.ipynb")):
             print(f"running {notebook.name} at full size ...", flush=True)

@@ -70,9 +70,9 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     lorl = reader.number(23, "light output ratio LORL")
     conversion = reader.number(24, "conversion factor for luminous intensities")
     if not conversion > 0:
-        raise FileFormatError(f"{path}: line 24 (conversion factor for luminous intensities): "
-                              "must be "
-                        f"> 0 (got {conversion:g})")
+        raise FileFormatError(
+            f"{path}: line 24 (conversion factor for luminous intensities): must be "
+            f"> 0 (got {conversion:g})")
     reader.number(25, "tilt of luminaire during measurement")
     n_sets = reader.integer(26, "number of standard sets of lamps", minimum=1)
     sets = []
@@ -88,10 +88,10 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
         })
     if not sets[0]["flux"] > 0:
         raise FileFormatError(f"{path}: lamp set 1: total luminous flux: must be > 0 "
-                        f"(got {sets[0]['flux']:g})")
+                              f"(got {sets[0]['flux']:g})")
     if isym in (2,) and mc % 2 or isym in (3, 4) and mc % 4:
         raise FileFormatError(f"{path}: line 4 (number of C-planes Mc): {mc} does not divide for "
-                        f"symmetry indicator Isym {isym}")
+                              f"symmetry indicator Isym {isym}")
     n_stored = stored_plane_count(isym, mc)
     rest = 27 + 6 * n_sets  # first line after the lamp sets
     tokens = [t for line in lines[rest - 1 :] for t in line.split()]
@@ -117,11 +117,11 @@ def parse_ldt(path: str | Path, text: str) -> Photometry:
     _increasing(path, "gamma angles", gamma)
     if gamma[0] < 0 or gamma[-1] > 180:
         raise FileFormatError(f"{path}: gamma angles: must lie in 0..180 "
-                        f"(got {gamma[0]:g}..{gamma[-1]:g})")
+                              f"(got {gamma[0]:g}..{gamma[-1]:g})")
     if np.any(table < 0):
         k, j = np.argwhere(table < 0)[0]
         raise FileFormatError(f"{path}: intensities: negative value {table[k, j]:g} at C = "
-                        f"{c_all[stored[k]]:g}, gamma = {gamma[j]:g}")
+                              f"{c_all[stored[k]]:g}, gamma = {gamma[j]:g}")
     horizontal = _canonical_planes(path, isym, c_all, stored)
     if isym == 3:
         order = np.argsort(horizontal)
@@ -185,9 +185,9 @@ def _canonical_planes(path, isym, c_all, stored) -> np.ndarray:
         return c
     lo, hi = expect[isym]
     if not (np.isclose(c[0], lo) and np.isclose(c[-1], hi)):
-        raise FileFormatError(f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but "
-                              "the planes "
-                        f"there are C{c[0]:g}..C{c[-1]:g}")
+        raise FileFormatError(
+            f"{path}: C-angles: Isym {isym} stores C{lo:g}..C{hi:g} but the planes "
+            f"there are C{c[0]:g}..C{c[-1]:g}")
     if isym == 3:
         return np.mod(180.0 - c, 360.0)
     return c
@@ -216,8 +216,8 @@ class _Lines:
 
     def text(self, k: int, field: str) -> str:
         if k > len(self.lines):
-            raise FileFormatError(f"{self.path}: line {k} ({field}): the file ends early "
-                                  "(truncated)")
+            raise FileFormatError(
+                f"{self.path}: line {k} ({field}): the file ends early (truncated)")
         return self.lines[k - 1].strip()
 
     def number(self, k: int, field: str) -> float:
@@ -230,12 +230,12 @@ class _Lines:
         value = self.number(k, field)
         if value != int(value):
             raise FileFormatError(f"{self.path}: line {k} ({field}): must be a whole number "
-                            f"(got {value:g})")
+                                  f"(got {value:g})")
         value = int(value)
         if minimum is not None and value < minimum:
             raise FileFormatError(f"{self.path}: line {k} ({field}): must be >= {minimum} "
-                            f"(got {value})")
+                                  f"(got {value})")
         if choices is not None and value not in choices:
             raise FileFormatError(f"{self.path}: line {k} ({field}): must be one of "
-                            f"{', '.join(map(str, choices))} (got {value})")
+                                  f"{', '.join(map(str, choices))} (got {value})")
         return value

@@ -6,15 +6,16 @@ follows one contract:
 * no coercion from the wrong XML type: a ``<string value="no"/>`` where a ``boolean``
   belongs, a ``<string>`` where a ``float`` belongs, a ``<float>`` where an ``integer``
   belongs are errors (an ``<integer>`` is accepted for a float, as Mitsuba does);
-* a value out of range (NaN included) is an error;
+* a value out of range (NaN included) is an error, and so is a non-finite spectrum or
+  texture value or one beyond float32 (``power=1e39``);
 * a reflectance texture is checked against its range: by value for a ``float`` or
   ``rgb``, else by evaluating it (on a grid of uv positions and, in spectral variants,
   of wavelengths); a texture that cannot be evaluated for the check is refused, never
   accepted unchecked;
-* every error is one ``ValueError`` line that names the plugin, the parameter, what was
-  expected and what came: ``local: parameter 'shadows' must be a boolean (got a string
-  "no")``. Mitsuba's loader turns it into its load error, which the command line prints
-  as one line.
+* every error is one :class:`~spectrace.errors.ParameterError` (a ``ValueError``) line that
+  names the plugin, the parameter, what was expected and what came: ``local: parameter
+  'shadows' must be a boolean (got a string "no")``. Mitsuba's loader turns it into its
+  load error, which :func:`spectrace.scene.load_error` turns back into this class.
 
 A missing parameter gives ``default``; pass :data:`REQUIRED` to make it mandatory.
 Mitsuba types are looked up when a function runs, so the module needs no re-execution
@@ -27,6 +28,8 @@ import math
 
 import drjit as dr
 import mitsuba as mi
+
+from spectrace.errors import ParameterError, first_line
 
 __all__ = [
     "REQUIRED", "xml_type", "read_float", "read_int", "read_bool", "read_choice",
@@ -51,6 +54,8 @@ GRID_NM = (360.0, 830.0)
 #: Slack of the range check of evaluated textures (float32 spectral upsampling of an
 #: RGB value in [0, 1] may exceed 1 by a few ulps).
 RANGE_SLACK = 1e-5
+#: The largest float32: a parameter beyond it becomes infinite in Mitsuba.
+FLOAT32_MAX = 3.4028234663852886e38
 
 
 def xml_type(props, name: str) -> str:
@@ -71,7 +76,7 @@ def _got(props, name: str) -> str:
 
 
 def _missing(plugin: str, name: str, what: str):
-    return ValueError(f"{plugin}: parameter '{name}' is required ({what})")
+    return ParameterError(f"{plugin}: parameter '{name}' is required ({what})")
 
 
 def _check_range(plugin, name, value, what, minimum, maximum, strict_minimum):
@@ -86,7 +91,7 @@ def _check_range(plugin, name, value, what, minimum, maximum, strict_minimum):
         ok &= value <= maximum
     if not ok:
         rule = " and ".join(rules) if rules else "a number"
-        raise ValueError(f"{plugin}: parameter '{name}' must be {rule} (got {value:g})")
+        raise ParameterError(f"{plugin}: parameter '{name}' must be {rule} (got {value:g})")
     return value
 
 
@@ -102,12 +107,13 @@ def read_float(props, plugin: str, name: str, default, *, minimum=None, maximum=
             raise _missing(plugin, name, "a float")
         return default
     if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a float (got {_got(props, name)})"
         )
     value = float(props.get(name))
-    if finite and not math.isfinite(value):
-        raise ValueError(f"{plugin}: parameter '{name}' must be a finite float (got {value:g})")
+    if finite and not _finite32(value):
+        raise ParameterError(f"{plugin}: parameter '{name}' must be a finite float "
+                             f"(got {value:g}{_beyond32(value)})")
     return _check_range(plugin, name, value, "a float", minimum, maximum, strict_minimum)
 
 
@@ -118,7 +124,7 @@ def read_int(props, plugin: str, name: str, default, *, minimum=None, maximum=No
             raise _missing(plugin, name, "an integer")
         return default
     if props.type(name) != mi.Properties.Type.Integer:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be an integer (got {_got(props, name)})"
         )
     value = int(props.get(name))
@@ -133,7 +139,7 @@ def read_bool(props, plugin: str, name: str, default):
             raise _missing(plugin, name, "a boolean")
         return default
     if props.type(name) != mi.Properties.Type.Bool:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a boolean, true or false "
             f"(got {_got(props, name)})"
         )
@@ -147,7 +153,7 @@ def read_string(props, plugin: str, name: str, default):
             raise _missing(plugin, name, "a string")
         return default
     if props.type(name) != mi.Properties.Type.String:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a string (got {_got(props, name)})"
         )
     return str(props.get(name))
@@ -162,12 +168,13 @@ def read_choice(props, plugin: str, name: str, default, options):
             raise _missing(plugin, name, f"one of {listed}")
         return default
     if props.type(name) != mi.Properties.Type.String:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be one of {listed} (got {_got(props, name)})"
         )
     value = str(props.get(name))
     if value not in options:
-        raise ValueError(f"{plugin}: parameter '{name}' must be one of {listed} (got {value!r})")
+        raise ParameterError(
+            f"{plugin}: parameter '{name}' must be one of {listed} (got {value!r})")
     return value
 
 
@@ -178,7 +185,7 @@ def read_point(props, plugin: str, name: str, default):
             raise _missing(plugin, name, "a point")
         return default
     if props.type(name) != mi.Properties.Type.Vector:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a point (got {_got(props, name)})"
         )
     return mi.ScalarPoint3f(props.get(name))
@@ -262,24 +269,29 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
         return texture
     kind = str(props.type(name)).split(".")[-1]
     if kind not in _TEXTURE_TYPES:
-        raise ValueError(f"{plugin}: parameter '{name}' must be {what} (got {_got(props, name)})")
+        raise ParameterError(
+            f"{plugin}: parameter '{name}' must be {what} (got {_got(props, name)})")
     rule = _rule(minimum, maximum)
     if rule is not None:
         rule = f"{noun} {rule}" if noun else rule
     given = _given_values(props, name)
+    if given is not None and not all(_finite32(v) for v in given):
+        shown = ", ".join(f"{v:g}" for v in given)
+        raise ParameterError(f"{plugin}: parameter '{name}' must be finite (got {shown}"
+                             f"{max((_beyond32(v) for v in given), key=len)})")
     if given is not None and rule is not None:
         low, high = min(given), max(given)
         if not _in_range(low, high, minimum, maximum, 0.0):
             shown = ", ".join(f"{v:g}" for v in given)
-            raise ValueError(f"{plugin}: parameter '{name}' must be {rule} (got {shown})")
+            raise ParameterError(f"{plugin}: parameter '{name}' must be {rule} (got {shown})")
     try:
         texture = props.get_emissive_texture(name) if emissive else props.get_texture(name)
     except Exception as error:  # noqa: BLE001 - Mitsuba's message does not name our plugin
-        raise ValueError(
-            f"{plugin}: parameter '{name}' must be {what} ({_first_line(error)})"
+        raise ParameterError(
+            f"{plugin}: parameter '{name}' must be {what} ({first_line(error)})"
         ) from None
     if uniform and texture.is_spatially_varying():
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a spectrum, not a spatially varying "
             f"texture (got {texture.class_name()})"
         )
@@ -287,13 +299,23 @@ def read_texture(props, plugin: str, name: str, default, *, minimum=None, maximu
         try:
             low, high = texture_range(texture)
         except Exception as error:  # noqa: BLE001 - refused, never accepted unchecked
-            raise ValueError(
+            if not mi.is_spectral and "non-spectral" in str(error):  # e.g. a blackbody
+                raise ParameterError(
+                    f"{plugin}: parameter '{name}': {texture.class_name()} needs a spectral "
+                    f"variant (e.g. llvm_ad_spectral; this is {mi.variant()})"
+                ) from None
+            raise ParameterError(
                 f"{plugin}: parameter '{name}' must be {rule}, and {texture.class_name()} "
                 f"cannot be evaluated to check it in variant {mi.variant()} "
-                f"({_first_line(error)})"
+                f"({first_line(error)})"
             ) from None
+        if not (math.isfinite(low) and math.isfinite(high)):
+            raise ParameterError(
+                f"{plugin}: parameter '{name}' must be finite (got {texture.class_name()} "
+                f"with values from {low:g} to {high:g})"
+            )
         if not _in_range(low, high, minimum, maximum, RANGE_SLACK):
-            raise ValueError(
+            raise ParameterError(
                 f"{plugin}: parameter '{name}' must be {rule} (got {texture.class_name()} "
                 f"with values from {low:g} to {high:g})"
             )
@@ -313,6 +335,16 @@ def read_spectrum(props, plugin: str, name: str, default, *, minimum=0.0, maximu
                         emissive=emissive, uniform=True, what="a spectrum", noun="")
 
 
+def _finite32(value: float) -> bool:
+    """Finite, and still finite as the float32 that Mitsuba stores (|value| <= FLOAT32_MAX)."""
+    return math.isfinite(value) and abs(value) <= FLOAT32_MAX
+
+
+def _beyond32(value: float) -> str:
+    """', beyond float32' for a finite value that float32 makes infinite, else ''."""
+    return ", beyond float32" if math.isfinite(value) and abs(value) > FLOAT32_MAX else ""
+
+
 def _rule(minimum, maximum):
     if minimum is None and maximum is None:
         return None
@@ -329,11 +361,3 @@ def _in_range(low, high, minimum, maximum, slack):
     if minimum is not None and low < minimum - slack:
         return False
     return not (maximum is not None and high > maximum + slack)
-
-
-def _first_line(error) -> str:
-    lines = [line.strip() for line in str(error).strip().splitlines() if line.strip()]
-    text = lines[0] if lines else type(error).__name__
-    if text.startswith("[") and "]" in text:  # drop "[properties.cpp:693] "
-        text = text.split("]", 1)[1].strip()
-    return text

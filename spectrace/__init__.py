@@ -13,9 +13,9 @@ DEFAULT_VARIANT = "llvm_ad_spectral"
 #: The variants spectrace works in (rgb, mono, spectral and their _polarized forms of each).
 JIT_VARIANT_PREFIXES = ("llvm_ad_", "cuda_ad_")
 
-__all__ = ["DEFAULT_VARIANT", "RenderResult", "UserError", "render", "set_variant"]
+__all__ = ["DEFAULT_VARIANT", "RenderResult", "SpectraceError", "render", "set_variant"]
 
-from spectrace.errors import UserError  # noqa: E402
+from spectrace.errors import ParameterError, SetupError, SpectraceError  # noqa: E402
 
 
 def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
@@ -24,7 +24,9 @@ def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
     Before mitsuba is first imported, points Dr.Jit at a libLLVM >= 16 (see
     :mod:`spectrace.llvm`). Calling it again switches variants and re-registers the
     plugins, since a plugin class made under one variant does not work under another.
-    Raises :class:`UserError` for an unknown variant or a missing libLLVM.
+    Raises :class:`~spectrace.errors.ParameterError` for an unknown or unsupported variant,
+    :class:`~spectrace.errors.SetupError` for a missing libLLVM or a variant this machine
+    cannot run (a CUDA variant without a GPU).
 
     ``lazy=True`` (the command line's choice) registers nothing yet, not even Mitsuba's
     own Python integrators: :func:`spectrace.scene.load_scene` registers the plugins a
@@ -37,7 +39,7 @@ def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
 
         try:
             configure_libllvm()
-        except UserError:
+        except SpectraceError:
             if name.startswith("llvm"):
                 raise
     from spectrace.signals import defer_sigint
@@ -46,16 +48,23 @@ def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
         _set_variant(name, lazy)
 
 
+def supported_variants() -> list[str]:
+    """Mitsuba's variants that spectrace works in (the JIT ones)."""
+    import mitsuba as mi
+
+    return [v for v in mi.variants() if v.startswith(JIT_VARIANT_PREFIXES)]
+
+
 def _set_variant(name: str, lazy: bool) -> None:
     import mitsuba as mi
 
     if name not in mi.variants():
-        raise UserError(f"unknown variant {name!r}; available: {', '.join(mi.variants())}")
+        raise ParameterError(f"unknown variant {name!r}; available: "
+                             f"{', '.join(supported_variants())}")
     if not name.startswith(JIT_VARIANT_PREFIXES):
-        supported = [v for v in mi.variants() if v.startswith(JIT_VARIANT_PREFIXES)]
-        raise UserError(
+        raise ParameterError(
             f"variant {name!r} is not supported: spectrace's plugins are vectorized Dr.Jit "
-            f"code for the JIT variants; use one of {', '.join(supported)}"
+            f"code for the JIT variants; use one of {', '.join(supported_variants())}"
         )
     from spectrace import registry
 
@@ -63,34 +72,23 @@ def _set_variant(name: str, lazy: bool) -> None:
         try:
             registry.set_variant(name, lazy)
         except (ImportError, RuntimeError) as e:  # e.g. a CUDA variant without a GPU
-            first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-            raise UserError(f"variant {name!r} cannot run on this machine: {first}") from None
-    _plain_log_when_piped(mi)
+            raise SetupError(f"variant {name!r} cannot run on this machine: "
+                             f"{_backend_problem(name, e)}") from None
+    from spectrace import mitsuba_log
+
+    mitsuba_log.route(mi)
     if not lazy:
         registry.require_all()
 
 
-_plain_appender = None
+def _backend_problem(name: str, error: BaseException) -> str:
+    """What keeps a variant from starting, in words (Dr.Jit's own message names its C++
+    functions, such as ``jit_init(JitBackend::CUDA)``)."""
+    from spectrace.errors import first_line
 
-
-def _plain_log_when_piped(mi) -> None:
-    """When stderr is not a terminal, Mitsuba's log lines without their colour escape codes
-    (its own appender writes them unconditionally): one plain appender to ``sys.stderr``."""
-    global _plain_appender
-    if _plain_appender is not None or sys.stderr.isatty():
-        return
-
-    class PlainAppender(mi.Appender):
-        def append(self, level, text):
-            sys.stderr.write(text.rstrip("\n") + "\n")
-
-        def log_progress(self, progress, name, formatted, eta, ptr=None):
-            pass
-
-    _plain_appender = PlainAppender()  # kept: the logger holds no Python reference
-    logger = mi.logger()
-    logger.clear_appenders()
-    logger.add_appender(_plain_appender)
+    if name.startswith("cuda"):
+        return "no CUDA GPU or driver found (use an llvm_ad_* variant)"
+    return first_line(error)
 
 
 def __getattr__(name):

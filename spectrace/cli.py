@@ -2,7 +2,7 @@
 
 Each subcommand is a module with ``add_arguments(parser)`` and ``run(args) -> int``;
 ``COMMANDS`` maps the subcommand name to that module, imported only when used.
-A :class:`~spectrace.errors.UserError` becomes one ``error: ...`` line on stderr and
+A :class:`~spectrace.errors.SpectraceError` becomes one ``error: ...`` line on stderr and
 exit status 2, never a traceback.
 """
 
@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 
-from spectrace.errors import UserError
+from spectrace.errors import SpectraceError, UsageError
 
 #: subcommand -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -37,11 +38,20 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 EXIT_USAGE = 2
+#: A negative number, or a comma- or space-separated list that starts with one.
+_NEGATIVE_NUMBERS = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:[, ].*)?$")
 EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with the project's one-line error format and exit status 2."""
+    """argparse with the project's one-line error format and exit status 2, and option values
+    that are negative numbers or lists of them (``--range -5,10``, ``--angles -30,0``) taken
+    as values, not as options."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # argparse's own test takes "-5" and "-0.5" as numbers, not "-5,10" or "-1e3"
+        self._negative_number_matcher = _NEGATIVE_NUMBERS
 
     def error(self, message):
         self.exit(EXIT_USAGE, f"error: {message}\n")
@@ -83,10 +93,16 @@ def main(argv: list[str] | None = None) -> int:
     try:
         parser = build_parser(only=_command_in(argv))
         args = parser.parse_args(argv)
+        from spectrace.mitsuba_log import configure_cli
+
+        configure_cli(getattr(args, "verbose", False))
+        output = getattr(args, "output", None)
+        if isinstance(output, str) and not output.strip():  # -o '' would mean "./"
+            raise UsageError("-o: the output path is empty")
         code = int(args._module.run(args) or 0)
         sys.stdout.flush()  # a closed pipe shows here, not in Python's flush at exit
         return code
-    except UserError as e:
+    except SpectraceError as e:
         print(f"error: {e}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError, SpectraceError, first_line
 
 #: Worker processes of the default LocalCluster. Measured on the 2-core development machine
 #: with benchmarks/bench_sweep.py (small renders): two single-threaded workers beat one
@@ -80,7 +80,7 @@ def _sigint_ignored():
 def _check_workers(workers: int | None) -> int:
     n = DEFAULT_WORKERS if workers is None else workers
     if n < 1:
-        raise UserError(f"--workers must be a positive integer (got {n})")
+        raise ParameterError(f"workers must be a positive integer (got {n})")
     return n
 
 
@@ -107,14 +107,14 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
 
     ``variant``: set on every worker at start-up (others are set on first use).
     ``dr_threads``: Dr.Jit threads per worker (default: its share of its host's cores).
-    An unreachable or malformed scheduler address is a UserError after ``connect_timeout``
+    An unreachable or malformed scheduler address is a SpectraceError after ``connect_timeout``
     seconds (default :data:`CONNECT_TIMEOUT_S`).
     Closes the client (and the LocalCluster it made) on exit.
     """
     from distributed import Client
 
     if workers is not None and scheduler:
-        raise UserError("--workers and --scheduler exclude each other")
+        raise ParameterError("workers and scheduler exclude each other")
     quiet_logs()
     cluster = None
     if scheduler:
@@ -123,8 +123,7 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
             timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
             client = Client(scheduler, timeout=timeout, set_as_default=False)
         except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
-            reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-            raise UserError(f"cannot reach scheduler {scheduler}: {reason}") from None
+            raise ParameterError(f"cannot reach scheduler {scheduler}: {first_line(e)}") from None
     else:
         cluster = start_local(workers)
         client = Client(cluster, set_as_default=False)
@@ -139,15 +138,14 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
 
 
 def check_address(address: str) -> None:
-    """UserError unless ``address`` reads as a scheduler address, e.g. tcp://host:8786."""
+    """ParameterError unless ``address`` reads as a scheduler address, e.g. tcp://host:8786."""
     from distributed.comm.addressing import get_address_host_port
 
     try:
         get_address_host_port(address if "://" in address else f"tcp://{address}")
     except (ValueError, TypeError) as e:
-        reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise UserError(f"--scheduler {address}: not a scheduler address such as "
-                        f"tcp://host:8786 ({reason})") from None
+        raise ParameterError(f"scheduler {address}: not a scheduler address such as "
+                             f"tcp://host:8786 ({first_line(e)})") from None
 
 
 def setup_workers(client, variant: str | None = None, dr_threads: int | None = None) -> None:
@@ -260,7 +258,7 @@ class SceneSpec:
         return cls(str(Path(path).resolve()), items, variant, bands)
 
     def load(self):
-        """Set the variant and load the scene (UserError for the user's mistakes)."""
+        """Set the variant and load the scene (SpectraceError for the user's mistakes)."""
         from spectrace.scene import load_scene, read_scene_xml
 
         ensure_variant(self.variant)
@@ -324,7 +322,7 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
         scene = spec.load()
         n = spp or scene_spp(scene)
         result = render_passes(scene, n, seed=seed, spp_per_pass=spp_per_pass)
-    except UserError as e:
+    except SpectraceError as e:
         return {"error": str(e)}
     return {"image": np.ascontiguousarray(as_rgb(result.image)), "spp": result.spp,
             "seconds": time.perf_counter() - start, "render_seconds": result.seconds,

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 
 #: Rec. 709 / sRGB luminance weights of linear R, G, B (IEC 61966-2-1, Y row of the matrix).
 LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
@@ -42,10 +42,10 @@ def compare_images(a: np.ndarray, b: np.ndarray) -> Comparison:
     a = np.asarray(a, dtype=np.float64)[..., :3]
     b = np.asarray(b, dtype=np.float64)[..., :3]
     if a.shape != b.shape:
-        raise UserError(f"image sizes differ: {a.shape[1]}x{a.shape[0]} and "
-                        f"{b.shape[1]}x{b.shape[0]}")
+        raise ParameterError(f"image sizes differ: {a.shape[1]}x{a.shape[0]} and "
+                             f"{b.shape[1]}x{b.shape[0]}")
     if not (np.isfinite(a).all() and np.isfinite(b).all()):
-        raise UserError("an image holds NaN or infinite values")
+        raise ParameterError("an image holds NaN or infinite values")
     display = [encode_srgb(np.clip(x, 0.0, 1.0)) for x in (a, b)]
     return Comparison(a, b, np.asarray(delta_e_2000(*display)))
 

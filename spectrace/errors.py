@@ -10,6 +10,11 @@ live only in ``spectrace/commands/`` and ``spectrace/cli.py``.
 
 from __future__ import annotations
 
+import re
+
+#: The source location that Mitsuba puts before its messages: ``[properties.cpp:693] ``.
+_SOURCE_LOCATION = re.compile(r"^\[[\w./-]+:\d+\]\s*")
+
 
 class SpectraceError(Exception):
     """Base of every mistake in the user's input; the message names what is wrong."""
@@ -27,20 +32,22 @@ class FileAccessError(SpectraceError, OSError):
     """A file is missing, unreadable or unwritable (the file is named in the message)."""
 
 
+class SetupError(SpectraceError):
+    """The machine lacks something spectrace needs (a libLLVM >= 16, the GPU of a CUDA
+    variant); the message says what to install or choose instead."""
+
+
 class UsageError(SpectraceError):
     """A command-line mistake (a flag's value, a missing argument): raised only by
     ``spectrace/commands/`` and ``spectrace/cli.py``."""
 
 
-#: Transitional name: library code that still raises ``UserError`` raises the base class,
-#: which the command line catches; new code raises one of the classes above.
-UserError = SpectraceError
-
-
 def first_line(error: BaseException | str) -> str:
     """The first non-empty line of an error message (the exception's type name when the
-    message is empty): what a one-line ``error: ...`` shows."""
+    message is empty), without the ``[file.cpp:123]`` source location that Mitsuba puts
+    first: what a one-line ``error: ...`` shows."""
     text = str(error).strip()
     if not text:
         return type(error).__name__ if isinstance(error, BaseException) else ""
-    return text.splitlines()[0].strip()
+    line = text.splitlines()[0].strip()
+    return _SOURCE_LOCATION.sub("", line, count=1) or line

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError, SpectraceError
 
 #: Incident angles (degrees from the normal) tabulated by default.
 DEFAULT_ANGLES = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0, 85.0, 89.0)
@@ -72,7 +72,8 @@ class FurnaceResult:
 def load_bsdf(spec):
     """A BSDF from a Mitsuba dict, an XML string or an XML file (active variant).
 
-    Raises :class:`UserError` with Mitsuba's message on one line on failure.
+    Raises :class:`~spectrace.errors.ParameterError` (a bad parameter) or
+    :class:`~spectrace.errors.FileFormatError` (Mitsuba's own error) in one line.
     """
     import mitsuba as mi
 
@@ -85,15 +86,15 @@ def load_bsdf(spec):
         elif isinstance(spec, (str, Path)) and Path(spec).is_file():
             bsdf = mi.load_file(str(spec))
         else:
-            raise UserError(f"not a BSDF dict, XML string or XML file: {spec!r}")
-    except UserError:
+            raise ParameterError(f"not a BSDF dict, XML string or XML file: {spec!r}")
+    except SpectraceError:
         raise
     except Exception as e:
-        from spectrace.scene import one_line
+        from spectrace.scene import load_error
 
-        raise UserError(one_line(e) or repr(e)) from None
+        raise load_error(e) from None
     if not isinstance(bsdf, mi.BSDF):
-        raise UserError(f"{spec!r} does not describe a BSDF (got {type(bsdf).__name__})")
+        raise ParameterError(f"{spec!r} does not describe a BSDF (got {type(bsdf).__name__})")
     return bsdf
 
 
@@ -110,7 +111,10 @@ def directional_albedo(bsdf, angles=DEFAULT_ANGLES, samples: int = DEFAULT_SAMPL
         bsdf = load_bsdf(bsdf)
     angles = np.asarray(angles, dtype=float).ravel()
     if angles.size == 0 or np.any((angles < 0) | (angles > 90)) or samples < 1:
-        raise UserError("angles must lie in [0, 90] degrees and samples must be >= 1")
+        raise ParameterError("angles must lie in [0, 90] degrees and samples must be >= 1")
+    from spectrace.memory import check_furnace
+
+    check_furnace(int(samples), angles.size)
     n = angles.size * samples
     theta = np.repeat(np.radians(angles), samples)
 

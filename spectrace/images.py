@@ -19,7 +19,7 @@ import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError
 
 if TYPE_CHECKING:
     import numpy as np
@@ -56,13 +56,15 @@ def check_writable(path: str | os.PathLike) -> Path:
     """Make the output's folder if needed and check a file can be created there."""
     path = Path(path)
     if path.exists() and path.is_dir():
-        raise UserError(f"output {path} is a directory")
+        raise FileAccessError(f"output {path} is a directory")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         with tempfile.NamedTemporaryFile(dir=path.parent, prefix=f".{path.stem}.probe"):
             pass
     except OSError as e:
-        raise UserError(f"cannot write output {path}: {e.strerror or e}") from None
+        blocker = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+        reason = f"{blocker} is a file, not a folder" if blocker else e.strerror or e
+        raise FileAccessError(f"cannot write output {path}: {reason}") from None
     return path
 
 
@@ -153,9 +155,9 @@ def read_exr(path) -> tuple[np.ndarray, dict]:
                 rgb = channels["RGBA"].pixels[..., :3]
             else:
                 names = ", ".join(channels)
-                raise UserError(f"{path}: no R, G, B channels (has {names})")
+                raise FileFormatError(f"{path}: no R, G, B channels (has {names})")
     except (OSError, RuntimeError) as e:
-        raise UserError(f"cannot read EXR {path}: {e}") from None
+        raise FileFormatError(f"cannot read EXR {path}: {e}") from None
     return np.asarray(rgb, dtype=np.float32), header
 
 
@@ -202,7 +204,7 @@ def read_image(path) -> np.ndarray:
 
     path = Path(path)
     if not path.is_file():
-        raise UserError(f"{path}: no such file")
+        raise FileAccessError(f"{path}: no such file")
     if path.suffix.lower() == ".exr":
         return read_exr(path)[0]
     from PIL import Image, UnidentifiedImageError
@@ -213,5 +215,5 @@ def read_image(path) -> np.ndarray:
         with Image.open(path) as im:
             data = np.asarray(im.convert("RGB"), dtype=np.float64) / 255.0
     except (OSError, UnidentifiedImageError) as e:
-        raise UserError(f"cannot read image {path}: {e}") from None
+        raise FileFormatError(f"cannot read image {path}: {e}") from None
     return decode_srgb(data).astype(np.float32)

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import SetupError
 
 MIN_LLVM_MAJOR = 16
 ENV_VAR = "DRJIT_LIBLLVM_PATH"
@@ -103,18 +103,18 @@ def install_hint() -> str:
 def configure_libllvm(environ=os.environ, search_dirs=SEARCH_DIRS) -> LibLLVM:
     """Point Dr.Jit at a libLLVM >= 16 (sets ``DRJIT_LIBLLVM_PATH`` unless the user did).
 
-    Raises UserError with the fixing command when no usable library exists.
+    Raises SetupError with the fixing command when no usable library exists.
     """
     user_path = environ.get(ENV_VAR)
     if user_path:
         major = llvm_major_from_path(user_path)
         if not os.path.isfile(user_path):
-            raise UserError(f"{ENV_VAR}={user_path}: no such file")
+            raise SetupError(f"{ENV_VAR}={user_path}: no such file")
         if major is not None and major < MIN_LLVM_MAJOR:
             good = find_libllvm(search_dirs)
             fix = (f"unset {ENV_VAR} to use the installed {good.path} (LLVM {good.major})"
                    if good is not None else f"install one: {install_hint()}")
-            raise UserError(
+            raise SetupError(
                 f"{ENV_VAR}={user_path} is LLVM {major}; Dr.Jit needs LLVM >= {MIN_LLVM_MAJOR}"
                 f" ({fix})"
             )
@@ -123,7 +123,7 @@ def configure_libllvm(environ=os.environ, search_dirs=SEARCH_DIRS) -> LibLLVM:
     if lib is None:
         olds = ", ".join(f"LLVM {c.major}" for c in find_libllvm_candidates(search_dirs))
         seen = f" (found only {olds})" if olds else ""
-        raise UserError(
+        raise SetupError(
             f"no libLLVM >= {MIN_LLVM_MAJOR} found for Dr.Jit's LLVM backend{seen}; "
             f"install one with: {install_hint()}, or set {ENV_VAR}"
         )
@@ -145,7 +145,7 @@ def _run(cmd: list[str]) -> int:
 def ensure_libllvm(install: bool = True, search_dirs=SEARCH_DIRS, runner=_run) -> LibLLVM:
     """Find a libLLVM >= 16; when none exists and we run as root on Debian, install one.
 
-    Raises UserError with the command to run when it cannot install one itself.
+    Raises SetupError with the command to run when it cannot install one itself.
     """
     lib = find_libllvm(search_dirs)
     if lib is not None:
@@ -155,15 +155,15 @@ def ensure_libllvm(install: bool = True, search_dirs=SEARCH_DIRS, runner=_run) -
     can_install = (install and shutil.which("apt-get") is not None
                    and hasattr(os, "geteuid") and os.geteuid() == 0)
     if not can_install:
-        raise UserError(f"no libLLVM >= {MIN_LLVM_MAJOR} found; install one with: "
-                        f"{install_hint()}")
+        raise SetupError(f"no libLLVM >= {MIN_LLVM_MAJOR} found; install one with: "
+                         f"{install_hint()}")
     runner(["apt-get", "update", "-qq"])
     for package in DEBIAN_PACKAGES:
         if runner(["apt-get", "install", "-y", "-qq", package]) == 0:
             lib = find_libllvm(search_dirs)
             if lib is not None:
                 return lib
-    raise UserError(f"could not install any of {', '.join(DEBIAN_PACKAGES)} with apt-get")
+    raise SetupError(f"could not install any of {', '.join(DEBIAN_PACKAGES)} with apt-get")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -173,7 +173,7 @@ def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else argv
     try:
         lib = ensure_libllvm(install="--no-install" not in args)
-    except UserError as e:
+    except SetupError as e:
         print(f"error: {e}", file=sys.stderr)
         return 1
     print(f"libLLVM {lib.major}: {lib.path}")

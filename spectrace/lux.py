@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileFormatError, ParameterError
 
 __all__ = ["LuxMap", "MIN_MEASURED", "PLANE_FORMAT", "lux_scene_tree", "lux_statistics",
            "parse_plane", "parse_range", "plot_lux", "render_lux", "write_lux_exr"]
@@ -105,21 +105,21 @@ def _floats(text: str, count: int) -> list[float] | None:
 
 
 def parse_plane(text: str) -> Plane:
-    """``"x,y,z nx,ny,nz"`` -> ((x, y, z), unit normal). UserError when malformed."""
+    """``"x,y,z nx,ny,nz"`` -> ((x, y, z), unit normal). ParameterError when malformed."""
     parts = str(text).split()
     point = _floats(parts[0], 3) if len(parts) == 2 else None
     normal = _floats(parts[1], 3) if len(parts) == 2 else None
     if point is None or normal is None:
-        raise UserError(f"--plane {text!r}: expected {PLANE_FORMAT}")
+        raise ParameterError(f"--plane {text!r}: expected {PLANE_FORMAT}")
     if max(abs(c) for c in point) > FLOAT32_MAX:
-        raise UserError(f"--plane {text!r}: the point's coordinates must be at most "
+        raise ParameterError(f"--plane {text!r}: the point's coordinates must be at most "
                         f"{FLOAT32_MAX:.3g} in magnitude (the renderer computes in float32)")
     # scaled by its largest component first: no overflow or underflow in the length
     big = max(abs(c) for c in normal)
     scaled = [c / big for c in normal] if big > 0.0 else normal
     length = math.sqrt(sum(c * c for c in scaled))
     if not length > 0.0:
-        raise UserError(f"--plane {text!r}: the normal must not be zero")
+        raise ParameterError(f"--plane {text!r}: the normal must not be zero")
     return tuple(point), tuple(c / length for c in scaled)
 
 
@@ -127,12 +127,12 @@ def parse_range(text: str, log: bool = False) -> tuple[float, float]:
     """``"MIN,MAX"`` (lux) -> (MIN, MAX) with 0 <= MIN < MAX (0 < MIN with ``log``)."""
     values = _floats(str(text), 2)
     if values is None:
-        raise UserError(f"--range {text!r}: expected MIN,MAX in lux (e.g. 0,500)")
+        raise ParameterError(f"--range {text!r}: expected MIN,MAX in lux (e.g. 0,500)")
     low, high = values
     if not 0.0 <= low < high:
-        raise UserError(f"--range {text!r}: expected 0 <= MIN < MAX")
+        raise ParameterError(f"--range {text!r}: expected 0 <= MIN < MAX")
     if log and not low > 0.0:
-        raise UserError(f"--range {text!r}: --log needs MIN > 0")
+        raise ParameterError(f"--range {text!r}: --log needs MIN > 0")
     return low, high
 
 
@@ -166,10 +166,10 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
     """Modify the scene tree ``root`` in place for a lux map: its integrators become one
     ``illuminance``, each sensor's film a box-filtered ``hdrfilm`` (pixel format
     ``luminance``) keeping the film's id and geometry (width, height, crop, values such as
-    ``$res`` copied verbatim). Returns ``root``. UserError when it has no sensor."""
+    ``$res`` copied verbatim). Returns ``root``. ParameterError when it has no sensor."""
     sensors = list(root.iter("sensor"))
     if not sensors:
-        raise UserError("no <sensor> to measure from")
+        raise ParameterError("no <sensor> to measure from")
     for old in [child for child in root if child.tag == "integrator"]:
         root.remove(old)
     root.insert(0, ET.Element("integrator", {"type": "illuminance"}))
@@ -211,13 +211,13 @@ def illuminance_integrator(plane: Plane | None = None, max_depth: int | None = N
     try:
         return mi.load_dict(spec)
     except (RuntimeError, ValueError) as e:
-        from spectrace.scene import one_line
+        from spectrace.scene import load_error
 
-        raise UserError(one_line(e)) from None
+        raise load_error(e) from None
 
 
 def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
-    """UserError unless some camera ray of a PLANE_CHECK_GRID^2 grid over the film of
+    """ParameterError unless some camera ray of a PLANE_CHECK_GRID^2 grid over the film of
     ``sensor`` (an index into the scene's sensors, or a sensor) crosses the plane in front
     of the camera (not parallel to it, not behind)."""
     import drjit as dr
@@ -238,7 +238,7 @@ def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
         parallel = bool(dr.all(dr.abs(cos) <= 1e-6))
         why = "it is parallel to the view" if parallel else \
             "it is behind the camera or parallel to the view"
-        raise UserError(f"--plane {plane_string(plane)!r}: the camera sees no point of the "
+        raise ParameterError(f"--plane {plane_string(plane)!r}: the camera sees no point of the "
                         f"plane ({why})")
 
 
@@ -246,10 +246,10 @@ def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
 
 def lux_statistics(lux: np.ndarray, valid: np.ndarray) -> tuple[float, float, float, float]:
     """(E_min, E_mean, E_max, U0 = E_min / E_mean) over the pixels with data (U0 NaN when
-    E_mean is 0). UserError when no pixel has data."""
+    E_mean is 0). ParameterError when no pixel has data."""
     values = np.asarray(lux, dtype=np.float64)[np.asarray(valid, dtype=bool)]
     if values.size == 0:
-        raise UserError("no pixel measured a point (nothing in view, or the work plane "
+        raise ParameterError("no pixel measured a point (nothing in view, or the work plane "
                         "hidden behind surfaces)")
     low, mean, high = float(values.min()), float(values.mean()), float(values.max())
     return low, mean, high, (low / mean if mean > 0.0 else float("nan"))
@@ -265,7 +265,7 @@ def render_lux(scene, spp: int, seed: int = 0, plane: Plane | None = None,
     direct light) > 1 adds interreflections. ``sensor``: an index into the scene's sensors
     or a sensor object. The scene's integrator is not used; the film must have AOV channels
     (``hdrfilm``: box-filter it for pixel means over footprints).
-    UserError when the plane is not in view or no pixel has data.
+    ParameterError when the plane is not in view or no pixel has data.
     """
     from spectrace.passes import render_passes
 
@@ -276,13 +276,13 @@ def render_lux(scene, spp: int, seed: int = 0, plane: Plane | None = None,
                            integrator=integrator, on_pass=on_pass)
     image = result.image
     if image.ndim != 3 or image.shape[-1] < 3:
-        raise UserError("the film has no AOV channels: use an hdrfilm")
+        raise ParameterError("the film has no AOV channels: use an hdrfilm")
     total, measured = image[..., -2].astype(np.float64), image[..., -1].astype(np.float64)
     valid = measured >= MIN_MEASURED
     lux = np.where(valid, total / np.where(valid, measured, 1.0), 0.0).astype(np.float32)
     if result.spp == 0 or not valid.any():
         if plane is not None:
-            raise UserError(f"--plane {plane_string(plane)!r}: no pixel sees the plane "
+            raise ParameterError(f"--plane {plane_string(plane)!r}: no pixel sees the plane "
                             "(surfaces hide it from the camera)")
     low, mean, high, u0 = lux_statistics(lux, valid)
     return LuxMap(lux, valid, low, mean, high, u0, result.spp, result.seconds,
@@ -321,10 +321,10 @@ def read_lux_exr(path) -> tuple[np.ndarray, dict]:
         with OpenEXR.File(str(path)) as f:
             channels = f.channels()
             if "Y" not in channels:
-                raise UserError(f"{path}: no Y channel (has {', '.join(channels)})")
+                raise FileFormatError(f"{path}: no Y channel (has {', '.join(channels)})")
             return np.asarray(channels["Y"].pixels, dtype=np.float32), dict(f.header())
     except (OSError, RuntimeError) as e:
-        raise UserError(f"cannot read EXR {path}: {e}") from None
+        raise FileFormatError(f"cannot read EXR {path}: {e}") from None
 
 
 def _smooth(values: np.ndarray, valid: np.ndarray, sigma: float) -> np.ndarray:

@@ -23,7 +23,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 from spectrace.signals import defer_sigint
 
 #: The samples (pixels x spp) a pass of the default size holds at most: about a second of
@@ -91,22 +91,36 @@ def pass_seed(seed: int, index: int) -> int:
     return (seed * _SEED_STRIDE + index) & 0xFFFFFFFF
 
 
-def check_sample_counts(spp: int | None, spp_per_pass: int | None) -> None:
-    """UserError unless ``spp`` (None: the scene's own) and ``spp_per_pass`` (None: the
-    default) are positive."""
-    if spp is not None and spp <= 0:
-        raise UserError(f"--spp must be a positive integer (got {spp})")
-    if spp_per_pass is not None and spp_per_pass <= 0:
-        raise UserError(f"--spp-per-pass must be a positive integer (got {spp_per_pass})")
+def check_sample_counts(spp: int | None, spp_per_pass: int | None,
+                        names: tuple[str, str] = ("spp", "spp_per_pass")) -> None:
+    """ParameterError unless ``spp`` (None: the scene's own) and ``spp_per_pass`` (None: the
+    default) are positive integers; ``names`` are what the message calls them (the command
+    line gives its flags)."""
+    for value, name in zip((spp, spp_per_pass), names, strict=True):
+        if value is not None and not (_is_integer(value) and value > 0):
+            raise ParameterError(f"{name} must be a positive integer (got {value!r})")
 
 
-def check_seed(seed: int, option: str = "--seed") -> int:
-    """``seed`` as an int; UserError naming ``option`` unless it fits the EXR header's
-    32-bit integer (:data:`SEED_RANGE`)."""
+def _is_integer(value) -> bool:
+    """An int (numpy's too), not a bool or a float such as 2.5 or 2.0."""
+    import operator
+
+    try:
+        operator.index(value)
+    except TypeError:
+        return False
+    return not isinstance(value, bool)
+
+
+def check_seed(seed: int, option: str = "seed") -> int:
+    """``seed`` as an int; ParameterError naming ``option`` unless it is an integer that fits
+    the EXR header's 32-bit integer (:data:`SEED_RANGE`)."""
     low, high = SEED_RANGE
+    if not _is_integer(seed):
+        raise ParameterError(f"{option} must be an integer (got {seed!r})")
     if not low <= int(seed) <= high:
-        raise UserError(f"{option} must be between {low} and {high} (got {seed}): it is "
-                        "stored in the EXR header as a 32-bit integer")
+        raise ParameterError(f"{option} must be between {low} and {high} (got {seed}): it is "
+                             "stored in the EXR header as a 32-bit integer")
     return int(seed)
 
 
@@ -161,7 +175,9 @@ def render_passes(
     on_pass: Callable[[int, int], None] | None = None,
 ) -> RenderResult:
     """Render ``scene`` with ``spp`` samples per pixel in passes of ``spp_per_pass`` (None:
-    :func:`default_spp_per_pass`); see the module docstring.
+    :func:`default_spp_per_pass`); see the module docstring. A count that is not a positive
+    integer, a seed beyond 32 bits or a film too large (:mod:`spectrace.memory`) is a
+    :class:`~spectrace.errors.ParameterError` naming it.
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
@@ -171,7 +187,13 @@ def render_passes(
     import drjit as dr
     import mitsuba as mi
 
+    check_sample_counts(spp, spp_per_pass)  # before the default pass size reads them
+    seed, spp = check_seed(seed), int(spp)
+    spp_per_pass = None if spp_per_pass is None else int(spp_per_pass)
     sizes = pass_sizes(spp, scene_spp_per_pass(scene, spp, spp_per_pass, sensor))
+    from spectrace.memory import check_pass
+
+    check_pass(scene, sizes[0], sensor)  # the film and a pass fit (32-bit arrays, memory)
     accum = None  # flat float64 sum of the passes weighted by their spp
     shape = None
     done = 0

@@ -1,31 +1,59 @@
 """Loading Mitsuba XML scenes with errors a user can read.
 
 Mitsuba reports XML and plugin errors as ``RuntimeError`` with a source-location prefix
-and sometimes several lines; :func:`load_scene` turns them into one-line
-:class:`~spectrace.errors.UserError` messages that keep the file, line and parameter.
+and sometimes several lines (a plugin's error as its traceback); :func:`load_scene` turns
+them into one-line :mod:`spectrace.errors` exceptions (:func:`load_error`) that keep the
+file, line and parameter.
 """
 
 from __future__ import annotations
 
+import math
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import (
+    FileAccessError,
+    FileFormatError,
+    ParameterError,
+    SetupError,
+    SpectraceError,
+    first_line,
+)
 from spectrace.signals import defer_sigint
 
 _PARAMETER = re.compile(r"\$(\w+)")
-_CPP_PREFIX = re.compile(r"\[[\w./-]+\.(?:cpp|h|py):\d+\]\s*")
-# A Python plugin's exception arrives with its traceback: keep only the final message.
-_PY_TRACEBACK = re.compile(r"Traceback \(most recent call last\):.*?^\w+(?:Error|Exception): ",
-                           re.DOTALL | re.MULTILINE)
+#: How Mitsuba's loader introduces the Python traceback of a plugin's constructor.
+_TRACEBACK = "Traceback (most recent call last):"
+#: The library's exception classes by name, as a traceback's last line names them.
+_CLASSES = {cls.__name__: cls for cls in (ParameterError, FileFormatError, FileAccessError,
+                                          SetupError)}
 
 
-def one_line(message: str) -> str:
-    """Mitsuba's message without ``[file.cpp:123]`` prefixes, its lines joined by '; '."""
-    text = _PY_TRACEBACK.sub("", _CPP_PREFIX.sub("", str(message)))
-    lines = [ln.strip(" -") for ln in text.splitlines() if ln.strip(" -")]
-    return "; ".join(lines).replace(":;", ":")
+def load_error(error: BaseException) -> SpectraceError:
+    """The user's mistake in a Mitsuba load error (``mi.load_file``/``load_string``/
+    ``load_dict``), as one line.
+
+    A spectrace plugin's constructor raises a :mod:`spectrace.errors` class naming the
+    plugin and its parameter; Mitsuba's loader hands it on as a ``RuntimeError`` holding the
+    traceback, and it comes back as that class, with the message and Mitsuba's location of
+    the plugin in the file (``At scene.xml (line 3, col 2)``). Mitsuba's own errors become a
+    :class:`~spectrace.errors.FileFormatError` of their lines joined by '; ', without the
+    ``[parser.cpp:123]`` source locations.
+    """
+    text = str(error)
+    head, found, trace = text.partition(_TRACEBACK)
+    if found:
+        last = trace.strip().splitlines()[-1]  # "spectrace.errors.ParameterError: phong: ..."
+        name, _, message = last.partition(": ")
+        cls = _CLASSES.get(name.rpartition(".")[2], ParameterError)
+        where = first_line(head).partition(": failed to instantiate")[0]
+        if where and "dictionary node" not in where:  # a file's line, not a dict's key
+            message = f"{where}: {message}"
+        return cls(message)
+    lines = [first_line(line).strip(" -") for line in text.splitlines()]
+    return FileFormatError("; ".join(ln for ln in lines if ln).replace(":;", ":"))
 
 
 def parse_defines(defines: list[str] | None) -> dict[str, str]:
@@ -34,30 +62,31 @@ def parse_defines(defines: list[str] | None) -> dict[str, str]:
     for item in defines or []:
         name, sep, value = item.partition("=")
         if not sep or not name.strip():
-            raise UserError(f"-D {item!r}: expected name=value")
+            raise ParameterError(f"-D {item!r}: expected name=value")
         params[name.strip()] = value
     return params
 
 
 def read_scene_xml(path: str | Path) -> ET.Element:
-    """Parse the scene file; a missing or malformed file is a UserError naming it."""
+    """Parse the scene file; a missing file is a FileAccessError, a malformed one a
+    FileFormatError, naming it."""
     path = Path(path)
     if path.is_dir():
-        raise UserError(f"scene {path}: is a folder, not a scene file")
+        raise FileAccessError(f"scene {path}: is a folder, not a scene file")
     if not path.is_file():
-        raise UserError(f"scene {path}: no such file")
+        raise FileAccessError(f"scene {path}: no such file")
     try:
         return ET.parse(path).getroot()
     except ET.ParseError as e:
-        raise UserError(f"scene {path}: malformed XML: {e}") from None
+        raise FileFormatError(f"scene {path}: malformed XML: {e}") from None
     except OSError as e:
-        raise UserError(f"scene {path}: {e.strerror or e}") from None
+        raise FileAccessError(f"scene {path}: {e.strerror or e}") from None
 
 
 def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None):
     """Load a Mitsuba scene to render from ``path`` with XML parameters ``params`` (``$name``).
 
-    The scene must have a sensor and an integrator (UserError otherwise).
+    The scene must have a sensor and an integrator (FileFormatError otherwise).
 
     ``root``, when given, is a (possibly modified) parsed tree of that file: it is loaded
     instead of the file, with relative asset paths still resolved against the file's folder.
@@ -67,8 +96,9 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     path = Path(path)
     tree = read_scene_xml(path) if root is None else root
     if tree.tag != "scene":
-        raise UserError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
+        raise FileFormatError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
     params = {k: str(v) for k, v in (params or {}).items()}
+    check_finite_numbers(tree, params, path)
     from spectrace import registry
 
     with defer_sigint():  # plugin modules execute Mitsuba calls: no Ctrl-C inside them
@@ -98,25 +128,79 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
             # (or leaves a half-imported module behind): an interrupt, not a mistake.
             raise KeyboardInterrupt from None
         if "unused parameters" in str(e):
-            raise UserError(_unused_parameters(path, tree, str(e))) from None
-        msg = one_line(e) + _variant_hint(str(e))
-        raise UserError(msg if str(path) in msg else f"scene {path}: {msg}") from None
+            raise ParameterError(_unused_parameters(path, tree, str(e))) from None
+        error = load_error(e)
+        msg = str(error) + _variant_hint(str(e))
+        raise type(error)(msg if str(path) in msg else f"scene {path}: {msg}") from None
     finally:
         _remove_path(resolver, folder)
     if not scene.sensors():
-        raise UserError(f"scene {path}: no <sensor> to render from")
+        raise FileFormatError(f"scene {path}: no <sensor> to render from")
     if scene.integrator() is None:
-        raise UserError(f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
+        raise FileFormatError(
+            f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
     for sensor in scene.sensors():
         film = sensor.film()
         width, height = (int(v) for v in film.crop_size())
         if width <= 0 or height <= 0:
             full = "x".join(str(int(v)) for v in film.size())
-            raise UserError(
+            raise ParameterError(
                 f"scene {path}: the film's width and height must be > 0 (got {width}x{height}"
                 f"{'' if full == f'{width}x{height}' else f', full size {full}'})"
             )
     return scene
+
+
+#: The elements of a Mitsuba scene that hold numbers, and their attributes that do.
+_NUMBER_ATTRIBUTES = {
+    "float": ("value",), "rgb": ("value",), "spectrum": ("value",),
+    "point": ("value", "x", "y", "z"), "vector": ("value", "x", "y", "z"),
+    "translate": ("value", "x", "y", "z"), "scale": ("value", "x", "y", "z"),
+    "rotate": ("value", "x", "y", "z", "angle"), "matrix": ("value",),
+    "lookat": ("origin", "target", "up"),
+}
+#: The largest float32: Mitsuba stores scene numbers in float32, so beyond it is infinite.
+FLOAT32_MAX = 3.4028234663852886e38
+
+
+def check_finite_numbers(tree: ET.Element, params: dict[str, str] | None = None,
+                         path: str | Path = "scene") -> None:
+    """FileFormatError unless every number the scene gives (emission, positions, transforms,
+    ... : the attributes of :data:`_NUMBER_ATTRIBUTES`, with ``$name`` replaced by
+    ``params`` or the scene's ``<default>``) is finite in float32: an infinite intensity, a
+    power of 1e39 or a NaN translation would render a black image without an error."""
+    values = {**scene_defaults(tree), **(params or {})}
+    parents = {child: parent for parent in tree.iter() for child in parent}
+    for element in tree.iter():
+        for attribute in _NUMBER_ATTRIBUTES.get(element.tag, ()):
+            text = element.get(attribute)
+            if text is None:
+                continue
+            text = _PARAMETER.sub(lambda m: values.get(m.group(1), m.group(0)), text)
+            for token in text.replace(",", " ").replace(":", " ").split():
+                try:
+                    number = float(token)
+                except ValueError:
+                    continue  # a file name, a $name left unset: Mitsuba says what it is
+                if not (math.isfinite(number) and abs(number) <= FLOAT32_MAX):
+                    raise FileFormatError(
+                        f"scene {path}: {_where(element, parents)}: {attribute}={text!r} "
+                        f"must be finite{' (beyond float32)' if math.isfinite(number) else ''}")
+
+
+def _where(element: ET.Element, parents: dict) -> str:
+    """``emitter 'light' (point): <rgb name="intensity">``: the element and its plugin."""
+    name = element.get("name")
+    shown = f'<{element.tag} name="{name}">' if name else f"<{element.tag}>"
+    parent = parents.get(element)
+    while parent is not None and parent.get("type") is None:
+        if parent.get("name"):
+            shown = f'<{parent.tag} name="{parent.get("name")}"> {shown}'
+        parent = parents.get(parent)
+    if parent is None or parent.tag == "scene":
+        return shown
+    ident = f" '{parent.get('id')}'" if parent.get("id") else ""
+    return f"{parent.tag}{ident} ({parent.get('type')}): {shown}"
 
 
 def plugin_names(tree: ET.Element, params: dict[str, str] | None = None) -> set[str]:

@@ -49,7 +49,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 from spectrace.spectral import apply_spectral_weights, xyz_weights
 from spectrace.spectral.colorimetry import _M_XYZ_TO_RGB, check_wavelengths
 
@@ -114,14 +114,15 @@ def film_to_bands(image, wavelengths) -> np.ndarray:
     c = check_wavelengths(wavelengths, "film_to_bands")
     img = np.array(image, dtype=np.float32)  # a copy: the render's tensor stays as it is
     if img.ndim < 1 or img.shape[-1] != c.size:
-        raise ValueError(
+        raise ParameterError(
             f"film_to_bands: image has shape {img.shape}, expected (..., {c.size}) channels "
             "(mismatched lengths)"
         )
     if c.size > 1:
         d = np.diff(c)
         if not np.allclose(d, d[0], rtol=1e-9, atol=0):
-            raise ValueError("film_to_bands: band centres must be evenly spaced (replace_film's)")
+            raise ParameterError(
+                "film_to_bands: band centres must be evenly spaced (replace_film's)")
         widths = np.full(c.size, d[0])
         widths[[0, -1]] = d[0] / 2
         img /= widths.astype(np.float32)
@@ -130,15 +131,16 @@ def film_to_bands(image, wavelengths) -> np.ndarray:
 
 def _check(bands, wavelength_range):
     if isinstance(bands, bool) or not isinstance(bands, (int, np.integer)) or bands < 1:
-        raise UserError(f"--bands must be an integer >= 1 (got {bands!r})")
+        raise ParameterError(f"bands must be an integer >= 1 (got {bands!r})")
     try:
         lo, hi = (float(x) for x in wavelength_range)
     except (TypeError, ValueError):
-        raise UserError(
+        raise ParameterError(
             f"wavelength range must be two numbers in nm (got {wavelength_range!r})"
         ) from None
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
-        raise UserError(f"wavelength range must satisfy 0 < lo < hi nm (got {wavelength_range!r})")
+        raise ParameterError(
+            f"wavelength range must satisfy 0 < lo < hi nm (got {wavelength_range!r})")
     return lo, hi
 
 
@@ -172,12 +174,12 @@ def replace_film(root: ET.Element, bands: int = 16, wavelength_range=(400.0, 700
     spectral variant (``llvm_ad_spectral``). ``mi.render`` then returns an (H, W, N) image
     of the band responses, bands in increasing wavelength; :func:`film_to_bands` turns it into
     band-averaged spectral radiance. Returns the band centres (nm).
-    Raises :class:`~spectrace.errors.UserError` for bands < 1, a bad range, or no sensor.
+    Raises :class:`~spectrace.errors.SpectraceError` for bands < 1, a bad range, or no sensor.
     """
     centres = band_centres(bands, wavelength_range)
     sensors = list(root.iter("sensor"))
     if not sensors:
-        raise UserError("the scene has no <sensor>: a spectral film needs one")
+        raise ParameterError("the scene has no <sensor>: a spectral film needs one")
     for sensor in sensors:
         old = sensor.find("film")
         new = _specfilm(old, bands, wavelength_range)

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError, SpectraceError, first_line
 from spectrace.passes import check_seed
 
 RESULTS = "results.csv"
@@ -50,7 +50,7 @@ _UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
 def parse_sweep_defines(defines: Iterable[str]) -> dict[str, list[str]]:
     """``["name=v1,v2", ...]`` (``-D`` options) -> ``{name: [v1, v2]}``, in order.
 
-    UserError for an item without ``=``, an empty name or no values (``-D name=``).
+    ParameterError for an item without ``=``, an empty name or no values (``-D name=``).
     A name given twice collects the values of both. ``\\,`` is a comma inside a value
     (``-D color=0.2\\,0.5\\,0.9,1\\,1\\,1``: two RGB values).
     """
@@ -59,10 +59,10 @@ def parse_sweep_defines(defines: Iterable[str]) -> dict[str, list[str]]:
         name, sep, text = item.partition("=")
         name = name.strip()
         if not sep or not name:
-            raise UserError(f"-D {item!r}: expected name=v1,v2,...")
+            raise ParameterError(f"-D {item!r}: expected name=v1,v2,...")
         values = [v.strip() for v in split_values(text) if v.strip()]
         if not values:
-            raise UserError(f"-D {name}=: no values (give name=v1,v2,...)")
+            raise ParameterError(f"-D {name}=: no values (give name=v1,v2,...)")
         params.setdefault(name, []).extend(v for v in values if v not in params.get(name, []))
     return params
 
@@ -78,11 +78,11 @@ def parse_list(text: str | None, option: str, kind=str) -> list | None:
         return None
     items = [t.strip() for t in text.split(",") if t.strip()]
     if not items:
-        raise UserError(f"{option}: no values")
+        raise ParameterError(f"{option}: no values")
     try:
         return [kind(t) for t in items]
     except ValueError:
-        raise UserError(f"{option} {text!r}: expected {kind.__name__} values separated by "
+        raise ParameterError(f"{option} {text!r}: expected {kind.__name__} values separated by "
                         "commas") from None
 
 
@@ -143,7 +143,7 @@ class Grid:
     @classmethod
     def make(cls, scene, params: Mapping[str, Sequence | str | float], variants=None,
              seeds=None, spp: int | None = None, spp_per_pass: int | None = None) -> Grid:
-        """Check everything that can be checked before rendering (UserError otherwise).
+        """Check everything that can be checked before rendering (ParameterError otherwise).
 
         ``params`` values may be one value or a sequence; each name must be a ``<default>``
         of the scene; ``variants`` and ``seeds`` one value or a sequence.
@@ -160,11 +160,12 @@ class Grid:
         for name, values in params.items():
             if name not in defaults:
                 known = ", ".join(defaults) or "none"
-                raise UserError(f"-D {name}: not a <default> of scene {scene} (it has: {known})")
+                raise ParameterError(
+                    f"-D {name}: not a <default> of scene {scene} (it has: {known})")
             values = [values] if isinstance(values, str | int | float) else list(values)
             values = [_format(v) for v in values]
             if not values or any(v == "" for v in values):
-                raise UserError(f"-D {name}=: no values (give name=v1,v2,...)")
+                raise ParameterError(f"-D {name}=: no values (give name=v1,v2,...)")
             grid_params[name] = list(dict.fromkeys(values))
         variants = _as_list(variants, spectrace.DEFAULT_VARIANT)
         _check_variants(variants)
@@ -233,13 +234,13 @@ def _check_variants(variants: list[str]) -> None:
     if "mitsuba" not in sys.modules:
         try:
             configure_libllvm()
-        except UserError:
+        except SpectraceError:
             pass
     import mitsuba as mi
 
     for v in variants:
         if v not in mi.variants():
-            raise UserError(f"unknown variant {v!r}; available: {', '.join(mi.variants())}")
+            raise ParameterError(f"unknown variant {v!r}; available: {', '.join(mi.variants())}")
 
 
 @dataclass
@@ -272,7 +273,7 @@ def _finished(outdir: Path, grid: Grid, outcome: Outcome) -> bool:
         return False
     try:
         rgb, header = read_exr(exr)
-    except UserError:
+    except SpectraceError:
         return False
     if header.get("sweep") != outcome.combo.header():
         return False
@@ -286,7 +287,7 @@ def _finished(outdir: Path, grid: Grid, outcome: Outcome) -> bool:
 
 
 def check_outdir(outdir, create: bool = True) -> Path:
-    """UserError when the output folder, or a folder above it, is a file, or when nothing
+    """SpectraceError when the output folder, or a folder above it, is a file, or when nothing
     can be written there; ``create``: make the folder (else only check, making nothing)."""
     import os
 
@@ -296,10 +297,10 @@ def check_outdir(outdir, create: bool = True) -> Path:
     for folder in (outdir, *outdir.parents):
         if folder.exists() and not folder.is_dir():
             what = "is" if folder == outdir else f"is inside {folder}, which is"
-            raise UserError(f"output folder {outdir} {what} a file, not a folder")
+            raise ParameterError(f"output folder {outdir} {what} a file, not a folder")
         if folder.is_dir():  # the nearest folder that exists
             if not os.access(folder, os.W_OK | os.X_OK):
-                raise UserError(f"cannot write output folder {outdir}: {folder} is not "
+                raise ParameterError(f"cannot write output folder {outdir}: {folder} is not "
                                 "writable")
             break
     if create:
@@ -353,8 +354,7 @@ def run(grid: Grid, client, outdir, *, on_image: Callable[[Outcome], None] | Non
             try:
                 answer = future.result()
             except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries
-                first = str(e).strip().splitlines()[0] if str(e).strip() else ""
-                answer = {"error": f"{type(e).__name__}: {first}"}
+                answer = {"error": f"{type(e).__name__}: {first_line(e)}"}
             _take(outdir, grid, o, answer)
             if not keep_images and o.status == "rendered":
                 o.image = _thumbnail(o.image)
@@ -507,14 +507,14 @@ def to_dataarray(grid: Grid, outcomes: Sequence[Outcome]):
 
     images = [o.image for o in outcomes if o.image is not None]
     if not images:
-        raise UserError("sweep: no image was rendered: "
+        raise ParameterError("sweep: no image was rendered: "
                         + "; ".join(f"{o.combo.label()}: {o.error}" for o in outcomes))
     h, w, c = images[0].shape
     data = np.full((*grid.shape, h, w, c), np.nan, np.float32)
     for o in outcomes:
         if o.image is not None:
             if o.image.shape != (h, w, c):
-                raise UserError(f"sweep: image {o.combo.label()} is {o.image.shape[1]}x"
+                raise ParameterError(f"sweep: image {o.combo.label()} is {o.image.shape[1]}x"
                                 f"{o.image.shape[0]}, the first was {w}x{h}: a DataArray "
                                 "needs equal sizes (write to a folder instead)")
             data[grid.index(o.combo)] = o.image

@@ -32,6 +32,8 @@ from functools import lru_cache
 import colour
 import numpy as np
 
+from spectrace.errors import ParameterError
+
 from .srgb import decode_srgb, encode_srgb
 
 __all__ = [
@@ -81,20 +83,20 @@ def check_wavelengths(wavelengths, where: str = "spectral") -> np.ndarray:
     """
     wl = np.asarray(wavelengths, dtype=np.float64)
     if wl.ndim != 1:
-        raise ValueError(f"{where}: wavelengths must be a 1-D array (got shape {wl.shape})")
+        raise ParameterError(f"{where}: wavelengths must be a 1-D array (got shape {wl.shape})")
     if wl.size == 0:
-        raise ValueError(f"{where}: wavelengths are empty")
+        raise ParameterError(f"{where}: wavelengths are empty")
     if not np.all(np.isfinite(wl)):
-        raise ValueError(f"{where}: wavelengths contain NaN or infinite values")
+        raise ParameterError(f"{where}: wavelengths contain NaN or infinite values")
     if np.any(wl <= 0):
-        raise ValueError(f"{where}: wavelengths must be positive nm (got min {wl.min():g})")
+        raise ParameterError(f"{where}: wavelengths must be positive nm (got min {wl.min():g})")
     d = np.diff(wl)
     if np.any(d == 0):
         dup = wl[1:][d == 0][0]
-        raise ValueError(f"{where}: duplicate wavelength {dup:g} nm")
+        raise ParameterError(f"{where}: duplicate wavelength {dup:g} nm")
     if np.any(d < 0):
         i = int(np.argmax(d < 0))
-        raise ValueError(
+        raise ParameterError(
             f"{where}: wavelengths must be sorted increasingly "
             f"({wl[i]:g} nm before {wl[i + 1]:g} nm)"
         )
@@ -112,14 +114,14 @@ def check_spd(wavelengths, values, where: str = "spectral", finite: bool = True)
     if v.dtype.kind not in "fiu":
         v = v.astype(np.float64)
     if v.ndim == 0 or v.size == 0:
-        raise ValueError(f"{where}: values are empty (shape {v.shape})")
+        raise ParameterError(f"{where}: values are empty (shape {v.shape})")
     if v.shape[-1] != wl.size:
-        raise ValueError(
+        raise ParameterError(
             f"{where}: values have {v.shape[-1]} samples on their last axis but there are "
             f"{wl.size} wavelengths (mismatched lengths)"
         )
     if finite and v.dtype.kind == "f" and not np.all(np.isfinite(v)):
-        raise ValueError(f"{where}: values contain NaN or infinite values")
+        raise ParameterError(f"{where}: values contain NaN or infinite values")
     return wl, v
 
 
@@ -127,12 +129,13 @@ def _observer_key(observer: str) -> str:
     try:
         return OBSERVERS[observer]
     except (KeyError, TypeError):
-        raise ValueError(f"unknown observer {observer!r}; one of: {', '.join(OBSERVERS)}") from None
+        raise ParameterError(
+            f"unknown observer {observer!r}; one of: {', '.join(OBSERVERS)}") from None
 
 
 def _check_extrapolation(extrapolation: str) -> str:
     if extrapolation not in EXTRAPOLATIONS:
-        raise ValueError(
+        raise ParameterError(
             f"unknown extrapolation {extrapolation!r}; one of: {', '.join(EXTRAPOLATIONS)}"
         )
     return extrapolation
@@ -184,7 +187,7 @@ def _illuminant_spd(illuminant) -> tuple[np.ndarray, np.ndarray]:
         try:
             sd = colour.SDS_ILLUMINANTS[illuminant]
         except KeyError:
-            raise ValueError(
+            raise ParameterError(
                 f"unknown illuminant {illuminant!r}; e.g. D65, D50, A, E, FL2 "
                 "(any key of colour.SDS_ILLUMINANTS)"
             ) from None
@@ -192,12 +195,12 @@ def _illuminant_spd(illuminant) -> tuple[np.ndarray, np.ndarray]:
     try:
         wl, v = illuminant
     except (TypeError, ValueError):
-        raise ValueError(
+        raise ParameterError(
             "illuminant must be None, a name such as 'D65' or a (wavelengths, values) pair"
         ) from None
     wl, v = check_spd(wl, v, "illuminant")
     if v.ndim != 1:
-        raise ValueError(f"illuminant: values must be 1-D (got shape {v.shape})")
+        raise ParameterError(f"illuminant: values must be 1-D (got shape {v.shape})")
     return wl, v.astype(np.float64)
 
 
@@ -291,7 +294,8 @@ def white_xyz(white, observer: str = CIE_1931_2) -> np.ndarray:
         return xyz / xyz[1]
     xyz = np.asarray(white, np.float64)
     if xyz.shape[-1:] != (3,) or not np.all(np.isfinite(xyz)):
-        raise ValueError(f"white must be an illuminant name or a finite XYZ triple (got {white!r})")
+        raise ParameterError(
+            f"white must be an illuminant name or a finite XYZ triple (got {white!r})")
     return xyz
 
 
@@ -307,7 +311,7 @@ def _check_triples(a, where: str) -> np.ndarray:
     if a.dtype.kind not in "f":
         a = a.astype(np.float64)
     if a.ndim == 0 or a.shape[-1] != 3:
-        raise ValueError(f"{where}: last axis must have 3 components (got shape {a.shape})")
+        raise ParameterError(f"{where}: last axis must have 3 components (got shape {a.shape})")
     return a
 
 
@@ -363,13 +367,13 @@ def chromatic_adaptation(xyz, source_white, target_white, method: str = "Bradfor
             np.float64,
         )
     except KeyError:
-        raise ValueError(
+        raise ParameterError(
             f"chromatic_adaptation: unknown method {method!r}; one of: "
             f"{', '.join(CHROMATIC_ADAPTATION_METHODS)}"
         ) from None
     xyz = _check_triples(xyz, "chromatic_adaptation")
     if not np.all(np.isfinite(xyz)):
-        raise ValueError("chromatic_adaptation: xyz contains NaN or infinite values")
+        raise ParameterError("chromatic_adaptation: xyz contains NaN or infinite values")
     ws, wt = white_xyz(source_white), white_xyz(target_white)
     lms_s, lms_t = ws @ m.T, wt @ m.T
     cat = np.linalg.inv(m) @ (np.asarray(lms_t / lms_s)[..., :, None] * m)
@@ -390,7 +394,8 @@ def blackbody(wavelengths, temperature) -> np.ndarray:
     wl = check_wavelengths(wavelengths, "blackbody")
     t = np.asarray(temperature, np.float64)
     if not np.all(np.isfinite(t)) or np.any(t <= 0):
-        raise ValueError(f"blackbody: temperature must be finite and > 0 K (got {temperature!r})")
+        raise ParameterError(
+            f"blackbody: temperature must be finite and > 0 K (got {temperature!r})")
     h = colour.constants.CONSTANT_PLANCK
     c = colour.constants.CONSTANT_LIGHT_SPEED
     k = colour.constants.CONSTANT_BOLTZMANN
@@ -414,7 +419,7 @@ def cct(wavelengths, values, return_duv: bool = False):
     wl, v = check_spd(wavelengths, values, "cct")
     xyz = spd_to_xyz(wl, v)
     if np.any(xyz[..., 1] <= 0):
-        raise ValueError("cct: the SPD has no luminance (Y <= 0)")
+        raise ParameterError("cct: the SPD has no luminance (Y <= 0)")
     res = np.asarray(colour.temperature.uv_to_CCT_Ohno2013(_uv_1960(xyz)))
     return (res[..., 0], res[..., 1]) if return_duv else res[..., 0]
 
@@ -439,7 +444,7 @@ def cri(wavelengths, values) -> float | np.ndarray:
     wl, v = check_spd(wavelengths, values, "cri")
     flat = np.asarray(v, np.float64).reshape(-1, wl.size)
     if np.any(flat.sum(axis=-1) <= 0):
-        raise ValueError("cri: the SPD has no power (sum of values <= 0)")
+        raise ParameterError("cri: the SPD has no power (sum of values <= 0)")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", colour.utilities.ColourWarning)
         out = np.array([float(colour.colour_rendering_index(_sd(wl, s))) for s in flat])
@@ -460,7 +465,7 @@ def delta_e_2000(srgb_a, srgb_b) -> np.ndarray:
     a = _check_triples(srgb_a, "delta_e_2000")
     b = _check_triples(srgb_b, "delta_e_2000")
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-        raise ValueError("delta_e_2000: colours contain NaN or infinite values")
+        raise ParameterError("delta_e_2000: colours contain NaN or infinite values")
     white = linear_srgb_to_xyz(np.ones(3))
     white_xy = white[:2] / white.sum()
     lab_a = colour.XYZ_to_Lab(linear_srgb_to_xyz(decode_srgb(np.asarray(a, np.float64))), white_xy)

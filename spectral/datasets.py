@@ -17,7 +17,7 @@ from xml.sax.saxutils import quoteattr
 import colour
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError, ParameterError
 
 from .colorimetry import check_spd
 
@@ -45,15 +45,15 @@ def read_spd_csv(path) -> tuple[np.ndarray, np.ndarray]:
     are skipped; a first line that is not numeric is taken as a header. Rows must be sorted
     by increasing wavelength without duplicates. Returns float64 arrays. Any problem (missing
     file, wrong column count, non-numeric value, NaN, bad wavelengths) raises
-    :class:`~spectrace.errors.UserError` with the file name and line number.
+    :class:`~spectrace.errors.SpectraceError` with the file name and line number.
     """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
     except FileNotFoundError:
-        raise UserError(f"{path}: no such file") from None
+        raise FileAccessError(f"{path}: no such file") from None
     except (OSError, UnicodeDecodeError) as e:
-        raise UserError(f"{path}: cannot read ({e})") from None
+        raise FileAccessError(f"{path}: cannot read ({e})") from None
     rows, first = [], True
     for lineno, line in enumerate(text.splitlines(), 1):
         line = line.strip()
@@ -66,20 +66,20 @@ def read_spd_csv(path) -> tuple[np.ndarray, np.ndarray]:
             if first:
                 first = False
                 continue  # header line
-            raise UserError(f"{path}:{lineno}: not a number in {line!r}") from None
+            raise FileFormatError(f"{path}:{lineno}: not a number in {line!r}") from None
         first = False
         if len(numbers) != 2:
-            raise UserError(
+            raise FileFormatError(
                 f"{path}:{lineno}: expected 2 columns (wavelength nm, value), got {len(numbers)}"
             )
         rows.append(numbers)
     if not rows:
-        raise UserError(f"{path}: no data rows (expected 'wavelength_nm, value' lines)")
+        raise FileFormatError(f"{path}: no data rows (expected 'wavelength_nm, value' lines)")
     data = np.asarray(rows, np.float64)
     try:
         wl, v = check_spd(data[:, 0], data[:, 1], str(path))
     except ValueError as e:
-        raise UserError(str(e)) from None
+        raise FileFormatError(str(e)) from None
     return wl, v
 
 
@@ -105,7 +105,7 @@ def colorchecker(chart: str = DEFAULT_CHART):
     try:
         sds = colour.SDS_COLOURCHECKERS[chart]
     except KeyError:
-        raise ValueError(
+        raise ParameterError(
             f"colorchecker: unknown chart {chart!r}; one of "
             f"{', '.join(k for k in colour.SDS_COLOURCHECKERS if ' ' in k)}"
         ) from None
@@ -136,7 +136,7 @@ def load_spd(source: str) -> tuple[np.ndarray, np.ndarray, str]:
     In order: an existing file (or a name ending in .csv/.txt/.spd) -> :func:`read_spd_csv`;
     an illuminant / light source name (:func:`illuminant`); a ColorChecker patch,
     "dark skin" (ColorChecker N Ohta) or "BabelColor Average:dark skin".
-    Unknown names raise :class:`~spectrace.errors.UserError`.
+    Unknown names raise :class:`~spectrace.errors.SpectraceError`.
     """
     path = Path(source)
     if path.exists() or path.suffix.lower() in (".csv", ".txt", ".spd"):
@@ -150,7 +150,7 @@ def load_spd(source: str) -> tuple[np.ndarray, np.ndarray, str]:
     sd = _colorchecker_patch(source)
     if sd is not None:
         return np.asarray(sd.wavelengths, np.float64), np.asarray(sd.values, np.float64), source
-    raise UserError(
+    raise ParameterError(
         f"{source!r}: no such file and not a known dataset name (e.g. D65, A, FL2, "
         f"'dark skin', 'BabelColor Average:dark skin')"
     )
@@ -174,9 +174,9 @@ def to_mitsuba_spectrum(wavelengths, values, extrapolation: str = "constant") ->
     """
     wl, v = check_spd(wavelengths, values, "to_mitsuba_spectrum")
     if v.ndim != 1:
-        raise ValueError(f"to_mitsuba_spectrum: values must be 1-D (got shape {v.shape})")
+        raise ParameterError(f"to_mitsuba_spectrum: values must be 1-D (got shape {v.shape})")
     if extrapolation not in ("constant", "zero"):
-        raise ValueError(f"to_mitsuba_spectrum: unknown extrapolation {extrapolation!r}")
+        raise ParameterError(f"to_mitsuba_spectrum: unknown extrapolation {extrapolation!r}")
     v = np.asarray(v, np.float64)
     if wl.size == 1:
         wl, v = np.array([wl[0], wl[0] + 1.0]), np.repeat(v, 2)

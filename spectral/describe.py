@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from spectrace.errors import ParameterError
+
 from .colorimetry import check_spd
 
 #: The CIE colour matching functions' range (nm): an SPD must overlap it.
@@ -29,12 +31,12 @@ def check_visible_nm(wavelengths, where: str) -> np.ndarray:
     lo, hi = CIE_RANGE_NM
     for unit, factor in (("metres", 1e-9), ("micrometres", 1e-3)):
         if lo * factor * 0.5 <= top <= hi * factor * 2.0:
-            raise ValueError(
+            raise ParameterError(
                 f"{where}: wavelengths must be in nm; {wl[0]:g}-{top:g} look like {unit} "
                 f"(multiply by {1 / factor:g})"
             )
     if top <= lo or wl[0] >= hi:
-        raise ValueError(
+        raise ParameterError(
             f"{where}: wavelengths {wl[0]:g}-{top:g} nm do not overlap the CIE range "
             f"{lo:g}-{hi:g} nm (wavelengths must be in nm)"
         )
@@ -46,7 +48,7 @@ def check_non_negative(wavelengths, values, where: str) -> None:
     negative = np.flatnonzero(np.asarray(values) < 0)
     if negative.size:
         i = int(negative[0])
-        raise ValueError(
+        raise ParameterError(
             f"{where}: negative value {values[i]:g} at {wavelengths[i]:g} nm "
             f"({negative.size} negative in all): an SPD is non-negative"
         )
@@ -67,10 +69,10 @@ def describe_spd(wavelengths, values, observer: str = "CIE 1931 2 Degree Standar
     check_visible_nm(wl, where)
     check_non_negative(wl, v, where)
     if not np.max(v) > 0:
-        raise ValueError(f"{where}: every value is 0: no light or reflectance to describe")
+        raise ParameterError(f"{where}: every value is 0: no light or reflectance to describe")
     xyz = C.spd_to_xyz(wl, v, illuminant if reflectance else None, observer=observer)
     if not xyz[1] > 0 and not reflectance:
-        raise ValueError(f"{where}: no luminance (Y = 0): the SPD is outside the visible range")
+        raise ParameterError(f"{where}: no luminance (Y = 0): the SPD is outside the visible range")
     out = {"XYZ": xyz, "xy": xyz[:2] / xyz.sum()}
     linear = C.xyz_to_linear_srgb(xyz)
     if not reflectance:

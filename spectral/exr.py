@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError, SpectraceError
 
 from .colorimetry import check_spd
 from .image import spectral_image_to_linear_srgb
@@ -138,13 +138,13 @@ def read_spectral_exr(path, kind: str | None = None, with_header: bool = False):
     "emissive" (``S0.*``), "reflective" (``T.*``) or None (emissive if present, else
     reflective). Polarised (S1-S3) and bispectral channels are ignored. With ``with_header``
     also returns the header dict. A missing or unreadable file, or one without spectral
-    channels, raises :class:`~spectrace.errors.UserError` naming the path.
+    channels, raises :class:`~spectrace.errors.SpectraceError` naming the path.
     """
     import OpenEXR
 
     path = Path(path)
     if not path.is_file():
-        raise UserError(f"{path}: no such file")
+        raise FileAccessError(f"{path}: no such file")
     try:
         with OpenEXR.File(str(path), separate_channels=True) as f:
             header = dict(f.header())
@@ -153,14 +153,15 @@ def read_spectral_exr(path, kind: str | None = None, with_header: bool = False):
                 parsed = _channel_to_nm(name)
                 if parsed is not None:
                     found.setdefault(parsed[0], []).append((parsed[1], ch.pixels))
-    except UserError:
+    except SpectraceError:
         raise
     except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
-        raise UserError(f"{path}: not a readable OpenEXR file ({e})") from None
+        raise FileFormatError(f"{path}: not a readable OpenEXR file ({e})") from None
     prefixes = [KINDS[kind]] if kind is not None else ["S0", "T"]
     component = next((p for p in prefixes if p in found), None)
     if component is None:
-        raise UserError(f"{path}: no spectral channels ({' or '.join(p + '.*' for p in prefixes)})")
+        raise FileFormatError(
+            f"{path}: no spectral channels ({' or '.join(p + '.*' for p in prefixes)})")
     entries = sorted(found[component], key=lambda e: e[0])
     wavelengths = np.array([e[0] for e in entries])
     image = np.stack([np.asarray(e[1], np.float32) for e in entries], axis=-1)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from spectrace.cli import main
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 from spectrace.furnace import directional_albedo, load_bsdf
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "phong_vs_energy.xml"
@@ -92,17 +92,17 @@ def test_mitsuba_plastics_conserve_energy(variant, xml):
 
 
 def test_xml_file_and_errors(variant_rgb, tmp_path):
-    """A BSDF can come from an XML file; a bad parameter or a non-BSDF is a UserError
+    """A BSDF can come from an XML file; a bad parameter or a non-BSDF is a ParameterError
     naming the problem."""
     path = tmp_path / "b.xml"
     path.write_text('<bsdf version="3.0.0" type="diffuse">'
                     '<float name="reflectance" value="0.25"/></bsdf>')
     np.testing.assert_allclose(directional_albedo(str(path), (30.0,), 1024).albedo, 0.25, rtol=1e-5)
-    with pytest.raises(UserError, match="'exponent'"):
+    with pytest.raises(ParameterError, match="'exponent'"):
         load_bsdf({"type": "phong", "exponent": -2.0})
-    with pytest.raises(UserError):
+    with pytest.raises(ParameterError):
         load_bsdf("no such thing")
-    with pytest.raises(UserError):
+    with pytest.raises(ParameterError):
         directional_albedo({"type": "diffuse"}, (95.0,), 16)
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from spectrace import llvm
-from spectrace.errors import UserError
+from spectrace.errors import SetupError
 
 
 def make_libs(folder, names):
@@ -49,7 +49,7 @@ def test_only_old_versions_give_a_clear_error(tmp_path):
     """With only LLVM 14 and 15 present, configuring fails with the install command."""
     a = make_libs(tmp_path / "a", ["libLLVM-14.0.6.so.1", "libLLVM-15.so"])
     env = {}
-    with pytest.raises(UserError, match=r"no libLLVM >= 16.*found only LLVM 15, LLVM 14.*install"):
+    with pytest.raises(SetupError, match=r"no libLLVM >= 16.*found only LLVM 15, LLVM 14.*install"):
         llvm.configure_libllvm(env, [str(a)])
     assert llvm.ENV_VAR not in env
 
@@ -68,9 +68,9 @@ def test_user_choice_is_kept_unless_too_old(tmp_path):
     env = {llvm.ENV_VAR: str(a / "libLLVM-18.so")}
     assert llvm.configure_libllvm(env, [str(a)]).major == 18
     assert env[llvm.ENV_VAR] == str(a / "libLLVM-18.so")
-    with pytest.raises(UserError, match="LLVM 15"):
+    with pytest.raises(SetupError, match="LLVM 15"):
         llvm.configure_libllvm({llvm.ENV_VAR: str(a / "libLLVM-15.so")}, [str(a)])
-    with pytest.raises(UserError, match="no such file"):
+    with pytest.raises(SetupError, match="no such file"):
         llvm.configure_libllvm({llvm.ENV_VAR: str(a / "missing.so")}, [str(a)])
 
 
@@ -100,5 +100,5 @@ def test_ensure_without_root_prints_the_command(tmp_path, monkeypatch):
     def no_runner(cmd):
         raise AssertionError("must not run apt-get")
 
-    with pytest.raises(UserError, match=r"sudo apt-get install -y libllvm19"):
+    with pytest.raises(SetupError, match=r"sudo apt-get install -y libllvm19"):
         llvm.ensure_libllvm(search_dirs=[str(folder)], runner=no_runner)

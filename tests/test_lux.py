@@ -11,7 +11,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 
 #: Luminous flux summed over the floor: pixel means of FLUX_SPP samples over FLUX_RES^2
 #: pixels (measured error 0.1-0.3 %).
@@ -71,10 +71,10 @@ def test_parse_plane():
 @pytest.mark.parametrize("text", ["0,0.85,0", "0,0.85 0,1,0", "a,b,c 0,1,0", "0,1,0 0,1,0 1",
                                   "0,1,0 0,nan,1", "0,1,0 0,0,0", ""])
 def test_malformed_plane_is_a_user_error(text):
-    """Anything else is a one-line UserError showing the expected form."""
+    """Anything else is a one-line ParameterError showing the expected form."""
     from spectrace.lux import parse_plane
 
-    with pytest.raises(UserError, match="--plane") as info:
+    with pytest.raises(ParameterError, match="--plane") as info:
         parse_plane(text)
     assert "\n" not in str(info.value)
 
@@ -82,14 +82,14 @@ def test_malformed_plane_is_a_user_error(text):
 def test_parse_plane_extreme_numbers():
     """A normal of huge or tiny components is normalised without overflow or underflow
     (1e300,1e300,0 became the zero normal, 'parallel to the view'); a point beyond float32,
-    which the renderer would make infinite, is a one-line UserError naming --plane."""
+    which the renderer would make infinite, is a one-line ParameterError naming --plane."""
     from spectrace.lux import parse_plane
 
     _, normal = parse_plane("0,0,0 1e300,1e300,0")
     np.testing.assert_allclose(normal, (np.sqrt(0.5), np.sqrt(0.5), 0.0), rtol=1e-12)
     _, normal = parse_plane("0,0,0 0,1e-320,0")
     assert normal == (0.0, 1.0, 0.0)
-    with pytest.raises(UserError, match="--plane .*float32"):
+    with pytest.raises(ParameterError, match="--plane .*float32"):
         parse_plane("1e308,0,0 0,1,0")
 
 
@@ -101,7 +101,7 @@ def test_parse_range():
     assert parse_range("10,1e4", log=True) == (10.0, 1e4)
     for text, log in (("500,0", False), ("5", False), ("-1,5", False), ("0,5", True),
                       ("x,5", False), ("1,inf", False)):
-        with pytest.raises(UserError, match="--range"):
+        with pytest.raises(ParameterError, match="--range"):
             parse_range(text, log)
 
 
@@ -114,7 +114,7 @@ def test_statistics_and_uniformity():
     low, mean, high, u0 = lux_statistics(lux, valid)
     assert (low, mean, high) == (100.0, 200.0, 300.0) and u0 == pytest.approx(0.5)
     assert np.isnan(lux_statistics(np.zeros((2, 2)), np.ones((2, 2), bool))[3])
-    with pytest.raises(UserError, match="no pixel"):
+    with pytest.raises(ParameterError, match="no pixel"):
         lux_statistics(lux, np.zeros((2, 2), bool))
 
 
@@ -188,7 +188,7 @@ def test_work_plane_pixels_without_data(variant_rgb):
 
 def test_plane_parallel_to_the_view_is_a_user_error(variant_rgb):
     """An orthographic camera looking horizontally never meets a horizontal plane: a
-    one-line UserError before rendering; a plane behind a perspective camera too."""
+    one-line ParameterError before rendering; a plane behind a perspective camera too."""
     import mitsuba as mi
 
     from spectrace.lux import render_lux
@@ -196,11 +196,11 @@ def test_plane_parallel_to_the_view_is_a_user_error(variant_rgb):
     T = mi.ScalarTransform4f()
     scene = top_view({"light": {"type": "pointlight", "position": [0.0, 2.0, 0.0]}})
     scene["sensor"]["to_world"] = T.look_at([0, 1.5, 0], [0, 1.5, 1], [0, 1, 0])
-    with pytest.raises(UserError, match="parallel to the view"):
+    with pytest.raises(ParameterError, match="parallel to the view"):
         render_lux(load(scene), 1, plane=((0.0, 0.85, 0.0), (0.0, 1.0, 0.0)))
     scene["sensor"] = {"type": "perspective", "fov": 40,
                        "to_world": T.look_at([0, 1.5, 0], [0, 0, 0], [0, 0, 1])}
-    with pytest.raises(UserError, match="behind the camera"):
+    with pytest.raises(ParameterError, match="behind the camera"):
         render_lux(load(scene), 1, plane=((0.0, 3.0, 0.0), (0.0, 1.0, 0.0)))
 
 
@@ -231,7 +231,7 @@ def test_exr_and_png(variant_rgb, tmp_path):
 
 def test_scene_tree_for_the_command():
     """The integrators become one ``illuminance``; each sensor's film a box-filtered
-    hdrfilm keeping its id and size parameters verbatim ($res); no sensor: UserError."""
+    hdrfilm keeping its id and size parameters verbatim ($res); no sensor: ParameterError."""
     from spectrace.lux import lux_scene_tree
 
     root = ET.fromstring(
@@ -246,7 +246,7 @@ def test_scene_tree_for_the_command():
     assert film.find("integer[@name='width']").get("value") == "$res"
     assert [r.get("type") for r in film.iter("rfilter")] == ["box"]
     assert film.find("spectrum") is None
-    with pytest.raises(UserError, match="no <sensor>"):
+    with pytest.raises(ParameterError, match="no <sensor>"):
         lux_scene_tree(ET.fromstring('<scene version="3.0.0"/>'))
 
 
@@ -281,10 +281,10 @@ def test_display_exposure_declared_but_unused_is_left_alone():
 
 
 def test_seed_range():
-    """Seeds are stored as 32-bit EXR integers: outside that range a UserError (the header
+    """Seeds are stored as 32-bit EXR integers: outside that range a ParameterError (the header
     wrapped 99999999999 to 1215752191)."""
     from spectrace.passes import check_seed
 
     assert check_seed(-(2**31)) == -(2**31) and check_seed(2**31 - 1) == 2**31 - 1
-    with pytest.raises(UserError, match=r"--seed must be between .* \(got 99999999999\)"):
+    with pytest.raises(ParameterError, match=r"seed must be between .* \(got 99999999999\)"):
         check_seed(99999999999)

@@ -119,14 +119,14 @@ print(json.dumps(sorted(type(s.bsdf()).__name__ for s in scene.shapes())))
 
 
 def test_unknown_plugin_is_still_one_error(tmp_path):
-    """A plugin nobody registers is refused as before: a UserError naming it."""
+    """A plugin nobody registers is refused as before: a FileFormatError naming it."""
     (tmp_path / "s.xml").write_text(scene_xml(bsdf="nosuchbsdf"))
     answer = run_script(LOAD + """
 spectrace.set_variant("llvm_ad_rgb", lazy=True)
 try:
     load("s.xml")
     print(json.dumps("loaded"))
-except spectrace.UserError as e:
+except spectrace.errors.FileFormatError as e:
     print(json.dumps(str(e)))
 """, tmp_path)
     assert "nosuchbsdf" in answer and "not found" in answer and "\n" not in answer

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import spectrace
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 from spectrace.passes import (
     MAX_SPP_PER_PASS,
     PASS_SAMPLES,
@@ -39,9 +39,9 @@ def test_pass_sizes_cover_spp_exactly():
     assert pass_sizes(10, 4) == [4, 4, 2]
     assert pass_sizes(8, 4) == [4, 4]
     assert pass_sizes(3, 16) == [3]
-    with pytest.raises(UserError, match="spp"):
+    with pytest.raises(ParameterError, match="spp"):
         pass_sizes(0, 4)
-    with pytest.raises(UserError, match="spp-per-pass"):
+    with pytest.raises(ParameterError, match="spp_per_pass"):
         pass_sizes(4, 0)
 
 

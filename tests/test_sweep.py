@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from spectrace import sweep
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 from spectrace.passes import render_passes
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -48,7 +48,7 @@ def test_product_order_and_file_names():
 ])
 def test_bad_grid_is_a_user_error(defines, word):
     """No values, no '=', or a name that is not a <default> of the scene."""
-    with pytest.raises(UserError, match=word):
+    with pytest.raises(ParameterError, match=word):
         sweep.Grid.make(SHOWCASE, sweep.parse_sweep_defines(defines), variants=VARIANT)
 
 

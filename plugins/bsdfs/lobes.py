@@ -30,6 +30,8 @@ import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
 
+from spectrace.errors import ParameterError
+
 #: Parameters the two BSDFs accept; anything else is a load error (a typo, usually).
 PARAMETERS = ("diffuse_reflectance", "specular_reflectance", "exponent", "normalized")
 
@@ -57,7 +59,7 @@ class LobeBSDF(mi.BSDF):
         mi.BSDF.__init__(self, props)
         unknown = sorted(set(props.keys()) - set(PARAMETERS))
         if unknown:
-            raise ValueError(
+            raise ParameterError(
                 f"{self.name}: unknown parameter(s) {', '.join(map(repr, unknown))}; "
                 f"expected {', '.join(PARAMETERS)}"
             )

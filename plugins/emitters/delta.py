@@ -75,6 +75,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.emitters import falloff, luminous
 
+from spectrace.errors import ParameterError
+
 #: The four ways to give a light's emission, and their units.
 EMISSION_UNITS = {"intensity": "W/sr", "power": "W", "luminous_intensity": "cd",
                   "luminous_flux": "lm"}
@@ -93,12 +95,12 @@ def spectrum_minimum(texture) -> float:
 def _float_value(props, plugin: str, name: str) -> float:
     """A non-negative float parameter (no coercion from another XML type)."""
     if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' must be a float in {EMISSION_UNITS[name]} "
             f"(got a {params.xml_type(props, name)}); give the spectral shape as "
             "parameter 'spectrum'"
         )
-    return params.read_float(props, plugin, name, params.REQUIRED, minimum=0.0)
+    return params.read_float(props, plugin, name, params.REQUIRED, minimum=0.0, finite=True)
 
 
 def _uniform_texture(props, plugin: str, name: str, default):
@@ -119,7 +121,7 @@ def parse_emission(props, plugin: str, default: float = 1.0):
     given = [name for name in EMISSION_UNITS if name in props]
     if len(given) > 1:
         named = " and ".join(f"'{name}'" for name in given)
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: give only one of parameters 'intensity', 'power', "
             f"'luminous_intensity', 'luminous_flux' (got {named})"
         )
@@ -130,7 +132,7 @@ def parse_emission(props, plugin: str, default: float = 1.0):
         luminous.check_luminous_content(texture, plugin, "spectrum")
         return name, texture, value
     if "spectrum" in props:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter 'spectrum' only applies to 'luminous_intensity' and "
             f"'luminous_flux' (the spectrum of '{name}' is its own value)"
         )
@@ -188,7 +190,7 @@ class DeltaLight(mi.Emitter):
         if self.luminous is not None:
             value = float(dr.slice(dr.detach(self.luminous)))
             if not value >= 0.0:
-                raise ValueError(
+                raise ParameterError(
                     f"{self.plugin_name}: parameter '{self.emission_name}' must be >= 0 "
                     f"(got {value:g})"
                 )

@@ -70,6 +70,8 @@ import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
 
+from spectrace.errors import ParameterError
+
 DEFAULT_LAW = "inverse_square"
 
 
@@ -116,7 +118,7 @@ class Polynomial:
             for name, default in (("kc", 0.0), ("kl", 0.0), ("kq", 1.0))
         )
         if self.kc == self.kl == self.kq == 0:
-            raise ValueError(
+            raise ParameterError(
                 f"{plugin}: parameters 'kc', 'kl', 'kq' of the polynomial falloff must not "
                 "all be 0 (the attenuation 1/(kc + kl r + kq r^2) would be infinite)"
             )
@@ -138,7 +140,7 @@ class Windowed:
 
     def __init__(self, props, plugin: str):
         if "radius" not in props:
-            raise ValueError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
+            raise ParameterError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
         self.radius = params.read_float(props, plugin, "radius", None, minimum=0.0,
                                         strict_minimum=True, finite=True)
         self.epsilon = params.read_float(props, plugin, "epsilon", 0.01, minimum=0.0,

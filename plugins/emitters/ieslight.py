@@ -175,6 +175,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff, luminous
 
+from spectrace.errors import FileAccessError, ParameterError, SpectraceError, first_line
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -197,7 +199,6 @@ def read_profile(filename: str):
     naming the file (and the field)."""
     from spectrace.photometry import read_photometry
 
-    from spectrace.errors import FileAccessError, FileFormatError, SpectraceError, first_line
 
     resolver = mi.file_resolver()
     path = Path(str(resolver.resolve(filename)))
@@ -209,6 +210,7 @@ def read_profile(filename: str):
         if not Path(filename).is_absolute():  # say where a relative name was looked up
             folders = [str(resolver[i]) for i in range(len(resolver))]
             folders = [f for f in folders if Path(f).name != "mitsuba"] or folders
+            folders = dict.fromkeys(str(Path(f or ".").resolve()) for f in folders)
             where = f" (looked in {', '.join(folders)})"
         raise FileAccessError(f"{PLUGIN}: parameter 'filename': {what}{where}")
     try:
@@ -216,7 +218,7 @@ def read_profile(filename: str):
     except SpectraceError as error:
         raise type(error)(f"{PLUGIN}: {first_line(error)}") from None
     except (OSError, UnicodeError) as error:
-        raise FileFormatError(f"{PLUGIN}: {path}: cannot read ({error})") from None
+        raise FileAccessError(f"{PLUGIN}: {path}: cannot read ({error})") from None
 
 
 class TypeC:
@@ -533,7 +535,7 @@ class IESLight(delta.DeltaLight):
         for name, array in values:
             value = float(dr.slice(dr.detach(array)))
             if not value >= 0.0:
-                raise ValueError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {value:g})")
+                raise ParameterError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {value:g})")
         luminous.check_luminous_content(self.intensity, PLUGIN, "spectrum")
         self._update()
 

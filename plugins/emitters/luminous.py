@@ -90,6 +90,8 @@ from typing import TYPE_CHECKING
 import drjit as dr
 import mitsuba as mi
 
+from spectrace.errors import ParameterError
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -198,7 +200,7 @@ def check_luminous_content(texture, plugin: str, name: str = "spectrum") -> floa
     not positive (a light of that spectrum would need infinite power per lumen)."""
     integral = photometric_integral(texture)
     if not integral > 0.0:
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter '{name}' has no luminous content (integral of "
             f"V(lambda) s(lambda) is {integral:g}): a light in candela or lumens needs a "
             "spectrum that the eye can see"

@@ -94,6 +94,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff
 
+from spectrace.errors import ParameterError
+
 PLUGIN = "pointlight"
 
 
@@ -104,7 +106,7 @@ class PointLight(delta.DeltaLight):
         mi.Emitter.__init__(self, props)
         if "position" in props:
             if "to_world" in props:
-                raise ValueError(
+                raise ParameterError(
                     f"{PLUGIN}: give either parameter 'position' or parameter 'to_world', "
                     "not both"
                 )

@@ -118,6 +118,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.emitters import delta, falloff, luminous
 
+from spectrace.errors import ParameterError
+
 PLUGIN = "spotlight"
 #: Smallest cos(penumbra) - cos(umbra) and umbra - penumbra (rad) used as a divisor: a
 #: hard-edged cone when the two angles are equal.
@@ -210,7 +212,7 @@ class SpotLight(delta.DeltaLight):
         self.to_world = falloff.parse_to_world(props)
         for name, ours in MITSUBA_SPOT_PARAMETERS.items():
             if name in props:
-                raise ValueError(
+                raise ParameterError(
                     f"{PLUGIN}: parameter '{name}' is Mitsuba's spot's; spotlight calls it "
                     f"'{ours}' ({ANGLE_MEANINGS[ours]}, in degrees)"
                 )
@@ -218,7 +220,7 @@ class SpotLight(delta.DeltaLight):
         umbra = falloff.parse_angle(props, PLUGIN, "umbra_angle", 30.0)
         penumbra = falloff.parse_angle(props, PLUGIN, "penumbra_angle", 20.0)
         if penumbra > umbra:
-            raise ValueError(
+            raise ParameterError(
                 f"{PLUGIN}: parameter 'penumbra_angle' must be <= umbra_angle "
                 f"(got penumbra_angle={penumbra}, umbra_angle={umbra})"
             )
@@ -271,7 +273,7 @@ class SpotLight(delta.DeltaLight):
     def parameters_changed(self, keys):
         umbra, penumbra = dr.slice(self.umbra_angle), dr.slice(self.penumbra_angle)
         if not (0 < penumbra <= umbra <= 90):
-            raise ValueError(
+            raise ParameterError(
                 f"{PLUGIN}: parameters 'umbra_angle' and 'penumbra_angle' must satisfy "
                 f"0 < penumbra_angle <= umbra_angle <= 90 (got {penumbra}, {umbra})"
             )

@@ -99,6 +99,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.emitters import luminous
 
+from spectrace.errors import ParameterError
+
 PLUGIN = "illuminance"
 #: The AOV channels the integrator adds to the film, in this order.
 AOV_NAMES = ("lux", "measured")
@@ -116,7 +118,7 @@ class Illuminance(mi.SamplingIntegrator):
         super().__init__(props)
         self.max_depth = params.read_int(props, PLUGIN, "max_depth", 1, minimum=-1)
         if self.max_depth == 0:
-            raise ValueError(
+            raise ParameterError(
                 f"{PLUGIN}: parameter 'max_depth' must be >= 1, or -1 for no limit (got 0)"
             )
         self.rr_depth = params.read_int(props, PLUGIN, "rr_depth", 5, minimum=1)
@@ -126,7 +128,7 @@ class Illuminance(mi.SamplingIntegrator):
         if (point is None) != (normal is None):
             given, missing = ("plane_point", "plane_normal") if normal is None else \
                 ("plane_normal", "plane_point")
-            raise ValueError(
+            raise ParameterError(
                 f"{PLUGIN}: parameter '{given}' needs parameter '{missing}' (a work plane is "
                 "a point and a normal)"
             )
@@ -134,10 +136,10 @@ class Illuminance(mi.SamplingIntegrator):
         if point is not None:
             values = [float(c) for c in point] + [float(c) for c in normal]
             if not all(math.isfinite(v) for v in values):
-                raise ValueError(f"{PLUGIN}: the work plane must be finite (got {values})")
+                raise ParameterError(f"{PLUGIN}: the work plane must be finite (got {values})")
             length = math.sqrt(sum(c * c for c in values[3:]))
             if not length > 0.0:
-                raise ValueError(
+                raise ParameterError(
                     f"{PLUGIN}: parameter 'plane_normal' must be a non-zero vector (got "
                     f"{values[3]:g}, {values[4]:g}, {values[5]:g})"
                 )

@@ -119,6 +119,8 @@ import mitsuba as mi
 from spectrace.plugins import params
 from spectrace.plugins.integrators.fog import FOG_LAWS
 
+from spectrace.errors import ParameterError
+
 PLUGIN = "local"
 
 
@@ -206,7 +208,7 @@ class Local(mi.SamplingIntegrator):
                                              finite=True)
         self.fog_color = self._spectrum(props, "fog_color")
         if not self.fog_end > self.fog_start:
-            raise ValueError(
+            raise ParameterError(
                 f"{PLUGIN}: parameter 'fog_end' must be > fog_start = {self.fog_start:g} "
                 f"(got {self.fog_end:g})"
             )
@@ -228,7 +230,7 @@ class Local(mi.SamplingIntegrator):
             )
             if min(values) < 0.0:
                 shown = ", ".join(f"{v:g}" for v in values)
-                raise ValueError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {shown})")
+                raise ParameterError(f"{PLUGIN}: parameter '{name}' must be >= 0 (got {shown})")
             if max(values) == 0.0:
                 props.mark_queried(name)
                 return None

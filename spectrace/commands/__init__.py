@@ -50,3 +50,24 @@ def add_render_options(parser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
                         help="set the scene parameter $NAME (XML <default>), repeatable")
+    add_verbose(parser)
+
+
+def add_verbose(parser) -> None:
+    """``-v/--verbose``: Mitsuba's warnings on stderr (once each; errors are always shown)."""
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="show Mitsuba's warnings (once each)")
+
+
+#: The flags of the render options, by the library parameter they set.
+RENDER_FLAGS = {"spp": "--spp", "spp_per_pass": "--spp-per-pass", "seed": "--seed"}
+
+
+def check_render_options(args) -> None:
+    """The sample counts and seed of :func:`add_render_options` checked before anything
+    loads, the messages naming the flags."""
+    from spectrace.passes import check_sample_counts, check_seed
+
+    check_sample_counts(args.spp, getattr(args, "spp_per_pass", None),
+                        names=(RENDER_FLAGS["spp"], RENDER_FLAGS["spp_per_pass"]))
+    check_seed(args.seed, RENDER_FLAGS["seed"])

@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import DEFAULT_VARIANT
-from spectrace.errors import UserError
+from spectrace.commands import add_verbose
+from spectrace.errors import UsageError
 
 SCENE_SUFFIXES = (".xml",)
 
@@ -41,6 +42,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the -D options that follow set the second side (B) of one scene")
     parser.add_argument("-o", "--output", default="out/compare.png",
                         help="side-by-side PNG (default out/compare.png)")
+    add_verbose(parser)
 
 
 class _SideDefine(argparse.Action):
@@ -82,15 +84,15 @@ def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
 
     if args.against:
         if args.variants or args.b is not None:
-            raise UserError("--against compares two settings of one scene: give one scene, "
-                            "no second input and no --variants")
+            raise UsageError("--against compares two settings of one scene: give one scene, "
+                             "no second input and no --variants")
         if Path(args.a).suffix.lower() not in SCENE_SUFFIXES:
-            raise UserError(f"--against needs a scene (.xml), got {args.a}")
+            raise UsageError(f"--against needs a scene (.xml), got {args.a}")
         side_a = parse_defines(args.defines)
         side_b = {**side_a, **parse_defines(getattr(args, "defines_b", None))}
         if side_a == side_b:
-            raise UserError("--against: side B sets nothing new (give -D name=value after "
-                            "--against): nothing to compare")
+            raise UsageError("--against: side B sets nothing new (give -D name=value after "
+                             "--against): nothing to compare")
         label = Path(args.a).name
         changed = " ".join(f"{k}={v}" for k, v in side_b.items() if side_a.get(k) != v)
         before = " ".join(f"{k}={side_a[k]}" for k in side_b if k in side_a and
@@ -102,20 +104,20 @@ def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
     if args.variants:
         names = [v.strip() for v in args.variants.split(",") if v.strip()]
         if len(names) != 2 or args.b is not None:
-            raise UserError("--variants takes exactly two variants and one scene")
+            raise UsageError("--variants takes exactly two variants and one scene")
         if names[0] == names[1]:
-            raise UserError(f"--variants: both sides are {names[0]}: nothing to compare")
+            raise UsageError(f"--variants: both sides are {names[0]}: nothing to compare")
         if Path(args.a).suffix.lower() not in SCENE_SUFFIXES:
-            raise UserError(f"--variants needs a scene (.xml), got {args.a}")
+            raise UsageError(f"--variants needs a scene (.xml), got {args.a}")
         return (_render_scene(Path(args.a), names[0], args),
                 _render_scene(Path(args.a), names[1], args), names[0], names[1])
     if args.b is None:
-        raise UserError("give two images or scenes, one scene with --variants, or one scene "
-                        "with -D ... --against -D ...")
+        raise UsageError("give two images or scenes, one scene with --variants, or one scene "
+                         "with -D ... --against -D ...")
     if (Path(args.a).suffix.lower() in SCENE_SUFFIXES and Path(args.a).resolve() ==
             Path(args.b).resolve()):
-        raise UserError(f"{args.a} against itself with the same settings and variant: nothing "
-                        "to compare (use -D ... --against -D ..., or --variants)")
+        raise UsageError(f"{args.a} against itself with the same settings and variant: nothing "
+                         "to compare (use -D ... --against -D ..., or --variants)")
     return (_load(args.a, args.variant, args), _load(args.b, args.variant, args),
             Path(args.a).name, Path(args.b).name)
 
@@ -124,10 +126,10 @@ def run(args) -> int:
     from spectrace.images import check_writable
     from spectrace.passes import check_sample_counts
 
-    check_sample_counts(args.spp, None)
+    check_sample_counts(args.spp, None, names=("--spp", "--spp-per-pass"))
     out = Path(args.output)
     if out.suffix.lower() != ".png":
-        raise UserError(f"output {out}: must end in .png")
+        raise UsageError(f"output {out}: must end in .png")
     check_writable(out)
     a, b, label_a, label_b = inputs(args)
     from spectrace.comparison import compare_images, write_figure

@@ -12,7 +12,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import SetupError
 
 # A tiny kernel plus a 4x4 render: exercises the JIT, including fminimum (LLVM 15 fails).
 _PROBE = """
@@ -95,7 +95,7 @@ def run(args) -> int:
         lib = configure_libllvm()
         origin = "from $" + ENV_VAR if user else "newest >= 16"
         print(f"libLLVM used:    {lib.path} (LLVM {lib.major}, {origin})")
-    except UserError as e:
+    except SetupError as e:
         print(f"libLLVM used:    none: {e}")
         print(f"fix:             {_fix(user, candidates, install_hint)}")
         return 1

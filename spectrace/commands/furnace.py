@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from spectrace.errors import UserError
+from spectrace.errors import UsageError
 from spectrace.furnace import DEFAULT_ANGLES, DEFAULT_SAMPLES
 
 
@@ -26,20 +26,20 @@ def _parse_value(text: str):
         return numbers[0]
     if len(numbers) == 3:
         return {"type": "rgb", "value": numbers}
-    raise UserError(f"expected one or three numbers, got {text!r}")
+    raise UsageError(f"expected one or three numbers, got {text!r}")
 
 
 def bsdf_spec(name: str, params: list[str]):
     """The BSDF description for the command line's BSDF argument and ``-p`` options."""
     if name.lstrip().startswith("<") or Path(name).is_file():
         if params:
-            raise UserError("-p applies to a plugin name, not to an XML string or file")
+            raise UsageError("-p applies to a plugin name, not to an XML string or file")
         return name
     spec = {"type": name}
     for item in params:
         key, sep, value = item.partition("=")
         if not sep or not key.strip():
-            raise UserError(f"-p expects name=value, got {item!r}")
+            raise UsageError(f"-p expects name=value, got {item!r}")
         spec[key.strip()] = _parse_value(value)
     return spec
 

@@ -14,7 +14,7 @@ import argparse
 import ast
 import importlib.util
 
-from spectrace.errors import UserError
+from spectrace.errors import UsageError, first_line
 
 #: Modules of ``spectrace.plugins`` that are helper pages but not in PLUGIN_MODULES.
 EXTRA_PAGES = ("params",)
@@ -45,7 +45,7 @@ def pages() -> dict[str, str]:
 def _source(module: str) -> str:
     spec = importlib.util.find_spec(f"spectrace.plugins.{module}")
     if spec is None or spec.origin is None:
-        raise UserError(f"no source for spectrace.plugins.{module}")
+        raise UsageError(f"no source for spectrace.plugins.{module}")
     with open(spec.origin, encoding="utf-8") as f:
         return f.read()
 
@@ -60,9 +60,9 @@ def page(name: str) -> str:
 
         close = difflib.get_close_matches(name.lower(), modules, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
-        raise UserError(f"no page {name!r}; {hint}pages: {', '.join(modules)} (Mitsuba's "
-                        "own plugins, such as path or diffuse, are described at "
-                        "https://mitsuba.readthedocs.io)")
+        raise UsageError(f"no page {name!r}; {hint}pages: {', '.join(modules)} (Mitsuba's "
+                         "own plugins, such as path or diffuse, are described at "
+                         "https://mitsuba.readthedocs.io)")
     text = ast.get_docstring(ast.parse(_source(modules[name])), clean=True) or ""
     legend = [f"  {mark} {meaning}" for mark, meaning in MARKS.items() if mark in text]
     if legend:
@@ -79,15 +79,27 @@ def kind(module: str) -> str:
     return "helper"
 
 
+#: Helper modules whose pages describe the machinery of plugins, not what a user sets: they
+#: print with ``spectrace help NAME`` but are not listed.
+UNLISTED = ("lobes", "delta")
+
+
 def listing() -> str:
-    rows = []
+    """The plugins, one line each, then the helper pages that their pages refer to."""
+    rows, helpers = [], []
     for name, module in pages().items():
+        plugin_kind = kind(module)
+        if plugin_kind == "helper":
+            if name not in UNLISTED:
+                helpers.append(name)
+            continue
         doc = ast.get_docstring(ast.parse(_source(module))) or ""
-        first = doc.strip().splitlines()[0] if doc.strip() else ""
+        first = first_line(doc)
         first = first.split(":", 1)[1].strip() if first.startswith("``") and ":" in first \
             else first
-        rows.append(f"  {name:<12} {kind(module):<11} {first.replace('``', '')}")
-    return ("spectrace help NAME prints the reference page of:\n" + "\n".join(rows)
+        rows.append(f"  {name:<12} {plugin_kind:<11} {first.replace('``', '')}")
+    return ("spectrace help NAME prints the reference page of a plugin:\n" + "\n".join(rows)
+            + f"\nor of what the plugins share: {', '.join(helpers)};"
             + "\nand spectrace help COMMAND the options of a command.")
 
 

@@ -8,9 +8,9 @@ import re
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options, progress_bar
-from spectrace.errors import UserError
-from spectrace.passes import check_sample_counts, check_seed, scene_spp
+from spectrace.commands import add_render_options, check_render_options, progress_bar
+from spectrace.errors import SpectraceError, UsageError
+from spectrace.passes import scene_spp
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -35,7 +35,7 @@ def output_paths(scene: Path, output: str | None) -> dict[str, Path]:
     """OUT.exr (default out/<scene>.lux.exr) and OUT.png beside it."""
     exr = Path(output) if output else Path("out") / f"{scene.stem}.lux.exr"
     if exr.suffix.lower() != ".exr":
-        raise UserError(f"output {exr}: must end in .exr (the PNG is written beside it)")
+        raise UsageError(f"output {exr}: must end in .exr (the PNG is written beside it)")
     return {"exr": exr, "png": exr.with_suffix(".png")}
 
 
@@ -45,10 +45,9 @@ def run(args) -> int:
     from spectrace.scene import parse_defines, read_scene_xml
 
     scene_path = Path(args.scene)
-    check_sample_counts(args.spp, args.spp_per_pass)  # before loading anything
-    check_seed(args.seed)
+    check_render_options(args)  # before loading anything
     if args.max_depth == 0 or args.max_depth < -1:
-        raise UserError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
+        raise UsageError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
     plane = None if args.plane is None else lux.parse_plane(args.plane)
     value_range = None if args.value_range is None else \
         lux.parse_range(args.value_range, args.log)
@@ -58,8 +57,8 @@ def run(args) -> int:
     params = lux.true_units(root, params)  # a display exposure of the scene set to 1
     try:
         lux.lux_scene_tree(root)
-    except UserError as e:
-        raise UserError(f"scene {scene_path}: {e}") from None
+    except SpectraceError as e:
+        raise type(e)(f"scene {scene_path}: {e}") from None
 
     import spectrace
 
@@ -98,8 +97,8 @@ def _load(scene_path, params, root):
 
     try:
         return load_scene(scene_path, params, root=root)
-    except UserError as e:
-        raise UserError(re.sub(r"At string \(line \d+, col \d+\): ", "", str(e))) from None
+    except SpectraceError as e:
+        raise type(e)(re.sub(r"At string \(line \d+, col \d+\): ", "", str(e))) from None
 
 
 def _render_with_progress(scene, spp, plane, args):

@@ -14,9 +14,10 @@ import os
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options, progress_bar
-from spectrace.errors import UserError
-from spectrace.passes import check_sample_counts, check_seed, scene_spp
+from spectrace.commands import add_render_options, check_render_options, progress_bar
+from spectrace.errors import UsageError
+from spectrace.memory import check_pass
+from spectrace.passes import scene_spp, scene_spp_per_pass
 
 FILMS = ("rgb", "spectral")
 DEFAULT_BANDS = 16
@@ -52,15 +53,15 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
     if output is not None and _is_folder(output):
         outs = [str(Path(output) / f"{s.stem}.exr") for s in scenes]
     elif output is not None and len(scenes) > 1:
-        raise UserError(f"-o {output}: with {len(scenes)} scenes, -o must be a folder "
-                        "(end it with /)")
+        raise UsageError(f"-o {output}: with {len(scenes)} scenes, -o must be a folder "
+                         "(end it with /)")
     else:
         outs = [output] * len(scenes)
     paths = [output_paths(s, o, film) for s, o in zip(scenes, outs, strict=True)]
     seen: dict[Path, Path] = {}
     for scene, p in zip(scenes, paths, strict=True):
         if p["exr"] in seen:
-            raise UserError(f"scenes {seen[p['exr']]} and {scene} would both write {p['exr']}")
+            raise UsageError(f"scenes {seen[p['exr']]} and {scene} would both write {p['exr']}")
         seen[p["exr"]] = scene
     return paths
 
@@ -69,7 +70,7 @@ def output_paths(scene: Path, output: str | None, film: str) -> dict[str, Path]:
     """The files a render writes: EXR, PNG beside it, and the spectral EXR for that film."""
     exr = Path(output) if output else Path("out") / f"{scene.stem}.exr"
     if exr.suffix.lower() != ".exr":
-        raise UserError(f"output {exr}: must end in .exr (the PNG is written beside it)")
+        raise UsageError(f"output {exr}: must end in .exr (the PNG is written beside it)")
     paths = {"exr": exr, "png": exr.with_suffix(".png")}
     if film == "spectral":
         paths["spectral"] = exr.with_suffix(".spectral.exr")
@@ -82,19 +83,18 @@ def run(args) -> int:
     from spectrace.images import check_writable
 
     scene_paths = [Path(s) for s in args.scene]
-    check_sample_counts(args.spp, args.spp_per_pass)  # before loading anything
-    check_seed(args.seed)
+    check_render_options(args)  # before loading anything
     if args.film == "spectral":
         if args.bands is None:
             args.bands = DEFAULT_BANDS
         if args.bands < 1:
-            raise UserError(f"--bands must be a positive integer (got {args.bands})")
+            raise UsageError(f"--bands must be a positive integer (got {args.bands})")
         if "spectral" not in args.variant:
-            raise UserError(f"--film spectral needs a spectral variant (got {args.variant})")
+            raise UsageError(f"--film spectral needs a spectral variant (got {args.variant})")
     elif args.bands is not None:
-        raise UserError("--bands applies only with --film spectral")
+        raise UsageError("--bands applies only with --film spectral")
     if args.workers is not None and args.workers < 1:
-        raise UserError(f"--workers must be a positive integer (got {args.workers})")
+        raise UsageError(f"--workers must be a positive integer (got {args.workers})")
     all_paths = scene_outputs(scene_paths, args.output, args.film)
 
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
@@ -114,6 +114,8 @@ def run(args) -> int:
             scene = load_scene(scene_path, params, root=root)
         else:
             scene = load_scene(scene_path, params)
+        check_pass(scene, scene_spp_per_pass(scene, args.spp or scene_spp(scene),
+                                             args.spp_per_pass), name="--spp-per-pass")
         loaded.append((scene, wavelengths))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:

@@ -21,11 +21,12 @@ A missing or malformed file is one ``error: ...`` line and exit status 2.
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import UsageError, first_line
 
 OBSERVER_CHOICES = {
     "2": "CIE 1931 2 Degree Standard Observer",
@@ -65,18 +66,22 @@ def run(args) -> int:
     # A ColorChecker patch is a reflectance: CCT and CRI describe light sources only.
     reflectance = args.reflectance or is_reflectance_dataset(args.source)
     if reflectance and args.illuminant not in _illuminant_names():
-        raise UserError(f"--illuminant: unknown illuminant {args.illuminant!r}")
+        raise UsageError(f"--illuminant: unknown illuminant {args.illuminant!r}")
+    if reflectance and float(np.max(values)) > 1.0:
+        print(f"warning: {label} has values up to {float(np.max(values)):.4g}: not a "
+              "reflectance in [0, 1], so its Y and sRGB are not those of a surface",
+              file=sys.stderr)
     if args.plot:
         from spectrace.images import check_writable
 
         if Path(args.plot).suffix.lower() != ".png":
-            raise UserError(f"--plot {args.plot}: must end in .png")
+            raise UsageError(f"--plot {args.plot}: must end in .png")
         check_writable(args.plot)
     try:
         info = describe_spd(wl, values, OBSERVER_CHOICES[args.observer], reflectance,
                             args.illuminant, where=label)
-    except ValueError as e:
-        raise UserError(str(e)) from None
+    except ValueError as e:  # colour-science's own checks too
+        raise UsageError(first_line(e)) from None
     x, y, z = info["XYZ"]
     print(f"SPD      {label}: {wl.size} samples, {wl[0]:g}-{wl[-1]:g} nm"
           + ("  (a reflectance dataset)" if reflectance and not args.reflectance else ""))

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from spectrace import DEFAULT_VARIANT
 from spectrace.commands import add_spp_per_pass
-from spectrace.errors import UserError
+from spectrace.errors import UsageError
 
 EXIT_FAILED = 1
 EXIT_INTERRUPTED = 130
@@ -55,7 +55,7 @@ def run(args) -> int:
     variants = sweep.parse_list(args.variants, "--variants")
     seeds = sweep.parse_list(args.seeds, "--seeds", int)
     if args.workers is not None and args.workers < 1:
-        raise UserError(f"--workers must be a positive integer (got {args.workers})")
+        raise UsageError(f"--workers must be a positive integer (got {args.workers})")
     grid = sweep.Grid.make(args.scene, params, variants, seeds, args.spp, args.spp_per_pass)
     outdir = Path(args.output) if args.output else Path("out") / f"sweep-{grid.scene.stem}"
     sweep.check_outdir(outdir, create=False)  # before starting a cluster

@@ -8,7 +8,10 @@ tested (``tests/studies/``) and shared:
 * :mod:`spectrace.studies.phong_vs_energy`: white-furnace albedo and bounce series of
   classic and normalized Phong, Blinn-Phong and microfacet BSDFs (``phong_vs_energy.ipynb``);
 * :mod:`spectrace.studies.light_falloff`: distance laws, cone falloffs and fog laws in
-  closed form, and the floor-irradiance measurement (``light_falloff.ipynb``).
+  closed form, and the floor-irradiance measurement (``light_falloff.ipynb``);
+* :mod:`spectrace.studies.photometry`: the luminaires' polar diagrams, the room's lux map
+  on the work plane against the point-by-point hand calculation, uniformity and the
+  utilisation factor, the room under a warm LED spectrally and in RGB (``photometry.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what
@@ -16,9 +19,10 @@ the notebook tests set), the example scenes (:func:`scene_path`, :func:`load_sce
 found through :mod:`spectrace.scenes`, so they work from a wheel), display and table
 helpers (:func:`display`, :func:`text_table`), :func:`luminance`, single-hit AOVs
 (:func:`aov`) and :func:`save_figure` (a notebook's key figures for the README's gallery,
-written only when ``make gallery`` sets ``SPECTRACE_GALLERY``). A notebook imports its study, e.g.
-``from spectrace.studies import light_falloff as study``; each study module also offers
-the shared helpers it uses under its own name (``study.budget``, ``study.display``).
+written only when ``make gallery`` sets ``SPECTRACE_GALLERY``). A notebook imports its
+study, e.g. ``from spectrace.studies import light_falloff as study``; each study module
+also offers the shared helpers it uses under its own name (``study.budget``,
+``study.display``).
 """
 
 from __future__ import annotations

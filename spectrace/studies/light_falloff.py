@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from spectrace.errors import ParameterError
 from spectrace.studies import aov, budget, display, load_scene, luminance, save_figure, text_table
 
 __all__ = ["CONE_FALLOFFS", "DISTANCE_LAWS", "FLOOR_ALBEDO", "FOG_LAWS", "SUBPIXELS",
@@ -221,7 +222,7 @@ def fog_fraction(fogged, clear, depth, min_contrast: float = 0.02) -> np.ndarray
     depth = np.asarray(depth, np.float64).reshape(np.shape(fogged)[:2])
     background = depth <= 0
     if not background.any():
-        raise ValueError("fog_fraction: no background pixel shows the fog colour")
+        raise ParameterError("fog_fraction: no background pixel shows the fog colour")
     y_fog = luminance(np.asarray(fogged, np.float64)[background]).mean()
     num = luminance(fogged) - y_fog
     den = luminance(clear) - y_fog

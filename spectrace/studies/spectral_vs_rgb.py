@@ -34,6 +34,7 @@ import colour
 import numpy as np
 
 from spectrace import spectral
+from spectrace.errors import ParameterError
 from spectrace.spectral.colorimetry import check_spd
 from spectrace.studies import budget, display, save_figure, text_table
 
@@ -160,7 +161,8 @@ def metameric_pair(base, light: str = "D65", against: str = "A", margin: float =
         down = np.where(b < 0, (margin - base) / b, np.inf)
     t = float(min(up.min(), down.min()))
     if t <= 0:
-        raise ValueError("metameric_pair: base reflectance leaves no room in [margin, 1 - margin]")
+        raise ParameterError(
+            "metameric_pair: base reflectance leaves no room in [margin, 1 - margin]")
     return np.stack([base, base + t * b])
 
 

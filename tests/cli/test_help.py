@@ -38,12 +38,19 @@ def test_help_prints_the_page_alone(capsys):
     assert "Methods inherited" not in out and "__init__" not in out
 
 
-def test_help_lists_every_page(capsys):
-    """Without a name: one line per page, plugins and helper pages."""
+def test_help_lists_the_plugins_and_the_shared_pages(capsys):
+    """Without a name: one line per plugin, then the helper pages the plugins' pages refer to
+    (falloff, luminous, fog, params); the base modules lobes and delta are no plugins and are
+    not listed, though their pages print."""
     assert main(["help"]) == 0
     out = capsys.readouterr().out
-    for name in PAGES:
+    for name in PLUGIN_PAGES:
         assert re.search(rf"^  {name} ", out, re.M), name
+    shared = out.split("share: ", 1)[1].split(";", 1)[0].split(", ")
+    assert {"falloff", "luminous", "fog", "params"} <= set(shared)
+    for name in help_command.UNLISTED:
+        assert name not in out
+        assert main(["help", name]) == 0 and capsys.readouterr().out
 
 
 def test_unknown_page_is_one_line(capsys):

@@ -114,7 +114,7 @@ def test_escaped_comma_long_values_and_seed_range():
     """`\\,` keeps a comma inside a value (an RGB triple); a value too long for a file name
     gets a short unique stem (it raised 'File name too long'); seeds must fit 32 bits."""
     from spectrace import sweep
-    from spectrace.errors import UserError
+    from spectrace.errors import ParameterError
 
     params = sweep.parse_sweep_defines([r"color=0.9\,0.1\,0.1,1\,1\,1", "res=8,8,16"])
     assert params == {"color": ["0.9,0.1,0.1", "1,1,1"], "res": ["8", "16"]}
@@ -124,7 +124,7 @@ def test_escaped_comma_long_values_and_seed_range():
     assert len(set(stems)) == 2
     assert all(len(s.encode()) <= sweep.MAX_STEM for s in stems)
     assert all(s.endswith("_llvm_ad_rgb_seed0") for s in stems)
-    with pytest.raises(UserError, match=r"--seeds must be between .* \(got 99999999999\)"):
+    with pytest.raises(ParameterError, match=r"--seeds must be between .* \(got 99999999999\)"):
         sweep.Grid.make(SHOWCASE, {"res": [8]}, VARIANT, [99999999999])
 
 

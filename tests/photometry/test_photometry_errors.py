@@ -1,4 +1,5 @@
-"""Malformed photometric files raise UserError: one line naming the file and the field."""
+"""Malformed or unreadable photometric files raise FileFormatError or FileAccessError: one
+line naming the file and the field."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import pytest
 from spectrace.photometry import generate as G
 from spectrace.photometry import read_photometry
 
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError
 
 GAMMA = np.arange(0.0, 90.001, 15.0)
 
@@ -24,7 +25,7 @@ def numbers_of(path):
 
 
 def assert_error(path, *words):
-    with pytest.raises(UserError) as info:
+    with pytest.raises((FileFormatError, FileAccessError)) as info:
         read_photometry(path)
     message = str(info.value)
     assert "\n" not in message

@@ -91,7 +91,7 @@ def test_invalid_parameters_fail_at_load(variant_rgb, plugin, params, name):
 
     with pytest.raises(Exception, match=f"{plugin}: .*'{name}'") as info:
         mi.load_dict({"type": plugin, **params})
-    assert "ValueError" in str(info.value) or isinstance(info.value, ValueError)
+    assert "ParameterError" in str(info.value) or isinstance(info.value, ValueError)
 
 
 def test_negative_rgb_intensity_fails_at_load(variant_rgb):

@@ -497,7 +497,7 @@ def test_bad_files_fail_at_load_with_one_line(variant_rgb, tmp_path):
     with one line that names the file (and the field) or the parameter."""
     import mitsuba as mi
 
-    from spectrace.errors import UserError
+    from spectrace.errors import FileFormatError
     from spectrace.scene import load_scene
 
     good = isotropic_file(tmp_path, 100.0)
@@ -509,7 +509,7 @@ def test_bad_files_fail_at_load_with_one_line(variant_rgb, tmp_path):
         '<scene version="3.0.0"><integrator type="direct"/><sensor type="perspective"/>'
         '<emitter type="ieslight"><string name="filename" value="truncated.ies"/></emitter>'
         "</scene>")
-    with pytest.raises(UserError) as error:
+    with pytest.raises(FileFormatError) as error:
         load_scene(scene)
     message = str(error.value)
     assert "\n" not in message and "truncated.ies" in message and "ieslight" in message

@@ -139,11 +139,12 @@ def test_reflectance_bitmap_above_one_refused(variant_rgb):
 
 
 def test_reflectance_that_cannot_be_checked_is_refused(variant_rgb):
-    """A blackbody cannot be evaluated in an RGB variant: refused, not accepted unchecked."""
+    """A blackbody cannot be evaluated in an RGB variant: refused, not accepted unchecked,
+    with the message that it needs a spectral variant."""
     message = load_error({"type": "phong", "diffuse_reflectance": {
         "type": "blackbody", "temperature": 3000}})
     assert "phong: parameter 'diffuse_reflectance'" in message
-    assert "cannot be evaluated" in message
+    assert "BlackBodySpectrum needs a spectral variant" in message
 
 
 def test_reflectance_rgb_checked_by_value(variant_spectral):

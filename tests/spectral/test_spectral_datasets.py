@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from spectrace import spectral as S
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError, ParameterError
 
 MITSUBA_RTOL = 1e-5  # Mitsuba stores spectra in float32
 
@@ -34,13 +34,13 @@ def test_read_spd_csv(tmp_path):
     ],
 )
 def test_malformed_csv_raises_user_error(tmp_path, text, message):
-    """Malformed SPD files raise UserError naming the file (and line) and the problem."""
+    """Malformed SPD files raise FileFormatError naming the file (and line) and the problem."""
     path = tmp_path / "bad.csv"
     path.write_text(text)
-    with pytest.raises(UserError, match=message) as err:
+    with pytest.raises(FileFormatError, match=message) as err:
         S.read_spd_csv(path)
     assert "bad.csv" in str(err.value)
-    with pytest.raises(UserError, match="no such file"):
+    with pytest.raises(FileAccessError, match="no such file"):
         S.read_spd_csv(tmp_path / "missing.csv")
 
 
@@ -58,7 +58,7 @@ def test_datasets_by_name():
     )
     wl, values, names = S.colorchecker()
     assert values.shape == (24, wl.size) and names[0] == "dark skin"
-    with pytest.raises(UserError, match="not a known dataset"):
+    with pytest.raises(ParameterError, match="not a known dataset"):
         S.load_spd("D99")
 
 

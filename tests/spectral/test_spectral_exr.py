@@ -10,7 +10,7 @@ import OpenEXR
 import pytest
 
 from spectrace import spectral as S
-from spectrace.errors import UserError
+from spectrace.errors import FileAccessError, FileFormatError
 
 # colour-science warns when it resamples the oracle data; expected here.
 pytestmark = pytest.mark.filterwarnings("ignore::colour.utilities.ColourRuntimeWarning")
@@ -119,18 +119,19 @@ def test_we_read_colour_science_file(tmp_path, rng):
 
 
 def test_bad_files_and_input(tmp_path, spectral):
-    """Missing, non-EXR or non-spectral files raise UserError; bad arrays ValueError."""
+    """Missing, non-EXR or non-spectral files raise FileAccessError or FileFormatError; bad
+    arrays ValueError."""
     img, wl = spectral
-    with pytest.raises(UserError, match="no such file"):
+    with pytest.raises(FileAccessError, match="no such file"):
         S.read_spectral_exr(tmp_path / "missing.exr")
     junk = tmp_path / "junk.exr"
     junk.write_text("not an exr")
-    with pytest.raises(UserError, match="OpenEXR"):
+    with pytest.raises(FileFormatError, match="OpenEXR"):
         S.read_spectral_exr(junk)
     rgb_only = tmp_path / "rgb.exr"
     with OpenEXR.File({}, {"R": img[..., 0], "G": img[..., 1], "B": img[..., 2]}) as f:
         f.write(str(rgb_only))
-    with pytest.raises(UserError, match="no spectral channels"):
+    with pytest.raises(FileFormatError, match="no spectral channels"):
         S.read_spectral_exr(rgb_only)
     with pytest.raises(ValueError, match="mismatched"):
         S.write_spectral_exr(tmp_path / "x.exr", img, wl[:-1])

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from spectrace import spectral as S
-from spectrace.errors import UserError
+from spectrace.errors import ParameterError
 from spectrace.spectral_film import (
     band_centres,
     band_gram_matrix,
@@ -162,11 +162,11 @@ def test_responses_sum_to_a_constant(bands):
 
 def test_replace_film_bad_input():
     """bands < 1 and a scene without a sensor are user errors."""
-    with pytest.raises(UserError, match="bands"):
+    with pytest.raises(ParameterError, match="bands"):
         replace_film(ET.fromstring(scene_xml()), 0)
-    with pytest.raises(UserError, match="no <sensor>"):
+    with pytest.raises(ParameterError, match="no <sensor>"):
         replace_film(ET.fromstring('<scene version="3.0.0"/>'), 4)
-    with pytest.raises(UserError, match="range"):
+    with pytest.raises(ParameterError, match="range"):
         replace_film(ET.fromstring(scene_xml()), 4, (700.0, 400.0))
 
 
