@@ -23,6 +23,8 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "emitters.pointlight",
     "emitters.spotlight",
     "emitters.ieslight",
+    "emitters.ciesky",
+    "emitters.sun",
     "integrators.fog",
     "integrators.local",
     "integrators.illuminance",
