@@ -1,0 +1,318 @@
+"""Environment maps in every layout: the projector functions and the conversion between them.
+
+An environment map stores the radiance arriving from every direction as an image. Each
+layout is one projector: a map from a unit direction d = (x, y, z) (the direction light
+comes *from*, scene frame with +Y up) to image coordinates (u, v) in [0, 1]^2, u to the
+right and v downwards, and back. All arrays are numpy, with the vector axis last.
+
+======================  ==============================================================
+layout                  projector
+======================  ==============================================================
+``latlong``             Blinn and Newell (1976), Mitsuba's ``envmap`` convention:
+                        u = atan2(x, -z) / (2 pi) (mod 1), v = acos(y) / pi; 2:1
+``sphere``              mirror ball (sphere map) seen from +Z: the ball normal
+                        n = normalize(d + (0, 0, 1)), u = (1 + n_x) / 2, v = (1 - n_y) / 2;
+                        d = 2 n_z n - (0, 0, 1); 1:1
+``angular``             Debevec's light probe: forward -Z at the centre, the radius r =
+                        acos(-z) / pi proportional to the angle (r = 1: backward); 1:1
+``cross_horizontal``    cube map (Greene 1986) unfolded as a 4:3 cross, row 2 left to
+                        right -X, -Z (front), +X, +Z; +Y above and -Y below the front
+``cross_vertical``      the same cube as a 3:4 cross: +Y, front, -Y, then +Z (turned by
+                        180 degrees) in the middle column
+======================  ==============================================================
+
+Cube faces are seen from inside: face f has a forward axis F, right R and up U, and its
+pixel at (s, t) in [-1, 1]^2 (t downwards) looks along F + s R - t U, so that neighbouring
+faces meet without seams. :func:`convert` resamples any layout into another (bilinear, at
+pixel centres), so that any map feeds Mitsuba's ``envmap`` (which keeps its own importance
+sampling) as ``latlong``. Photometric scale: :func:`horizontal_illuminance` is the lux a
+horizontal plane receives from the map's upper hemisphere (the map in W/(m^2 sr) times
+the convention of ``spectrace help luminous``, K_m integral V = 683 x 106.857 per unit of
+luminance Y).
+
+Sources: Blinn, Newell (1976), "Texture and reflection in computer generated images",
+CACM 19(10); Greene (1986), "Environment mapping and other applications of world
+projections", IEEE CG&A 6(11); Debevec (1998), "Rendering synthetic objects into real
+scenes", SIGGRAPH (angular map); Miller, Hoffman (1984), SIGGRAPH course notes (sphere
+map).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from spectrace.errors import FileFormatError, ParameterError
+
+LAYOUTS = ("latlong", "sphere", "angular", "cross_horizontal", "cross_vertical")
+#: Width / height of each layout's image.
+ASPECTS = {"latlong": 2.0, "sphere": 1.0, "angular": 1.0, "cross_horizontal": 4.0 / 3.0,
+           "cross_vertical": 3.0 / 4.0}
+#: K_m integral V dlambda: lux per unit of luminance Y of irradiance (spectrace help luminous).
+LUX_PER_Y = 683.0 * 106.856895
+
+#: Cube faces: name -> (forward, right, up) as seen from inside.
+FACES = {
+    "-z": ((0, 0, -1), (1, 0, 0), (0, 1, 0)),
+    "+x": ((1, 0, 0), (0, 0, 1), (0, 1, 0)),
+    "+z": ((0, 0, 1), (-1, 0, 0), (0, 1, 0)),
+    "-x": ((-1, 0, 0), (0, 0, -1), (0, 1, 0)),
+    "+y": ((0, 1, 0), (1, 0, 0), (0, 0, 1)),
+    "-y": ((0, -1, 0), (1, 0, 0), (0, 0, -1)),
+}
+#: Where each face sits in a cross (column, row), and whether it is turned by 180 degrees.
+CROSS_CELLS = {
+    "cross_horizontal": ({"-x": (0, 1), "-z": (1, 1), "+x": (2, 1), "+z": (3, 1),
+                          "+y": (1, 0), "-y": (1, 2)}, (4, 3), ()),
+    "cross_vertical": ({"-x": (0, 1), "-z": (1, 1), "+x": (2, 1), "+y": (1, 0),
+                        "-y": (1, 2), "+z": (1, 3)}, (3, 4), ("+z",)),
+}
+
+
+def _normalize(v):
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+# -- latitude-longitude -------------------------------------------------------------------
+
+def latlong_to_uv(d):
+    u = np.mod(np.arctan2(d[..., 0], -d[..., 2]) / (2 * np.pi), 1.0)
+    v = np.arccos(np.clip(d[..., 1], -1.0, 1.0)) / np.pi
+    return np.stack([u, v], axis=-1)
+
+
+def latlong_to_direction(uv):
+    phi, theta = 2 * np.pi * uv[..., 0], np.pi * uv[..., 1]
+    return np.stack([np.sin(theta) * np.sin(phi), np.cos(theta),
+                     -np.sin(theta) * np.cos(phi)], axis=-1)
+
+
+# -- mirror ball --------------------------------------------------------------------------
+
+def sphere_to_uv(d):
+    n = _normalize(d + np.array([0.0, 0.0, 1.0]))
+    return np.stack([(1 + n[..., 0]) / 2, (1 - n[..., 1]) / 2], axis=-1)
+
+
+def sphere_to_direction(uv):
+    s, t = 2 * uv[..., 0] - 1, 1 - 2 * uv[..., 1]
+    n_z = np.sqrt(np.clip(1 - s * s - t * t, 0.0, 1.0))
+    n = np.stack([s, t, n_z], axis=-1)
+    return 2 * n_z[..., None] * n - np.array([0.0, 0.0, 1.0])
+
+
+def sphere_valid(uv):
+    s, t = 2 * uv[..., 0] - 1, 1 - 2 * uv[..., 1]
+    return s * s + t * t <= 1.0
+
+
+# -- angular (light probe) ----------------------------------------------------------------
+
+def angular_to_uv(d):
+    r = np.arccos(np.clip(-d[..., 2], -1.0, 1.0)) / np.pi
+    h = np.hypot(d[..., 0], d[..., 1])
+    safe = np.where(h > 0, h, 1.0)
+    s, t = r * d[..., 0] / safe, r * d[..., 1] / safe
+    return np.stack([(1 + s) / 2, (1 - t) / 2], axis=-1)
+
+
+def angular_to_direction(uv):
+    s, t = 2 * uv[..., 0] - 1, 1 - 2 * uv[..., 1]
+    r = np.hypot(s, t)
+    theta = np.pi * np.clip(r, 0.0, 1.0)
+    safe = np.where(r > 0, r, 1.0)
+    return np.stack([np.sin(theta) * s / safe, np.sin(theta) * t / safe, -np.cos(theta)],
+                    axis=-1)
+
+
+angular_valid = sphere_valid
+
+
+# -- cube crosses -------------------------------------------------------------------------
+
+def _face_axes(layout, name):
+    forward, right, up = (np.array(v, dtype=np.float64) for v in FACES[name])
+    if name in CROSS_CELLS[layout][2]:
+        right, up = -right, -up
+    return forward, right, up
+
+
+def cube_to_uv(d, layout="cross_horizontal"):
+    """(u, v) in the cross of ``layout`` of the directions ``d``."""
+    cells, (columns, rows), _ = CROSS_CELLS[layout]
+    uv = np.zeros(d.shape[:-1] + (2,))
+    axis = np.argmax(np.abs(d), axis=-1)
+    sign = np.take_along_axis(d, axis[..., None], axis=-1)[..., 0] > 0
+    for name, (column, row) in cells.items():
+        index = "xyz".index(name[1])
+        mask = (axis == index) & (sign == (name[0] == "+"))
+        if not np.any(mask):
+            continue
+        forward, right, up = _face_axes(layout, name)
+        dm = d[mask]
+        depth = dm @ forward
+        s, t = (dm @ right) / depth, -(dm @ up) / depth
+        uv[mask, 0] = (column + (s + 1) / 2) / columns
+        uv[mask, 1] = (row + (t + 1) / 2) / rows
+    return uv
+
+
+def cube_to_direction(uv, layout="cross_horizontal"):
+    """Directions of the cross's (u, v); NaN outside the six faces."""
+    cells, (columns, rows), _ = CROSS_CELLS[layout]
+    d = np.full(uv.shape[:-1] + (3,), np.nan)
+    column = np.clip(np.floor(uv[..., 0] * columns), 0, columns - 1).astype(int)
+    row = np.clip(np.floor(uv[..., 1] * rows), 0, rows - 1).astype(int)
+    for name, (c, r) in cells.items():
+        mask = (column == c) & (row == r)
+        forward, right, up = _face_axes(layout, name)
+        s = 2 * (uv[mask, 0] * columns - c) - 1
+        t = 2 * (uv[mask, 1] * rows - r) - 1
+        d[mask] = _normalize(forward + s[:, None] * right - t[:, None] * up)
+    return d
+
+
+def cube_valid(uv, layout="cross_horizontal"):
+    cells, (columns, rows), _ = CROSS_CELLS[layout]
+    column = np.clip(np.floor(uv[..., 0] * columns), 0, columns - 1).astype(int)
+    row = np.clip(np.floor(uv[..., 1] * rows), 0, rows - 1).astype(int)
+    valid = np.zeros(uv.shape[:-1], dtype=bool)
+    for c, r in cells.values():
+        valid |= (column == c) & (row == r)
+    return valid
+
+
+# -- one mapping name -> functions ----------------------------------------------------------
+
+#: layout -> (direction -> uv, uv -> direction, uv -> inside the layout's image area)
+PROJECTORS = {
+    "latlong": (latlong_to_uv, latlong_to_direction, lambda uv: np.ones(uv.shape[:-1], bool)),
+    "sphere": (sphere_to_uv, sphere_to_direction, sphere_valid),
+    "angular": (angular_to_uv, angular_to_direction, angular_valid),
+    "cross_horizontal": (lambda d: cube_to_uv(d, "cross_horizontal"),
+                         lambda uv: cube_to_direction(uv, "cross_horizontal"),
+                         lambda uv: cube_valid(uv, "cross_horizontal")),
+    "cross_vertical": (lambda d: cube_to_uv(d, "cross_vertical"),
+                       lambda uv: cube_to_direction(uv, "cross_vertical"),
+                       lambda uv: cube_valid(uv, "cross_vertical")),
+}
+
+
+def direction_to_uv(d, layout: str):
+    """Image coordinates (u, v) in [0, 1]^2 of unit directions ``d`` (..., 3)."""
+    return PROJECTORS[_check_layout(layout)][0](np.asarray(d, dtype=np.float64))
+
+
+def uv_to_direction(uv, layout: str):
+    """Unit directions of image coordinates ``uv`` (..., 2)."""
+    return PROJECTORS[_check_layout(layout)][1](np.asarray(uv, dtype=np.float64))
+
+
+def _check_layout(layout: str) -> str:
+    if layout not in PROJECTORS:
+        raise ParameterError(f"layout must be one of {', '.join(LAYOUTS)} (got {layout!r})")
+    return layout
+
+
+def detect_layout(shape, hint: str | None = None, name: str = "image") -> str:
+    """The layout of an image of ``shape`` (H, W, ...) from its aspect ratio: 2:1 latlong,
+    4:3 and 3:4 crosses; a square image is ``sphere`` unless ``hint`` says ``angular``.
+    ``hint`` ``cube`` accepts either cross. Raises ``FileFormatError`` naming ``name``."""
+    height, width = shape[:2]
+    ratio = width / height
+    matches = [layout for layout, aspect in ASPECTS.items() if abs(ratio - aspect) < 1e-9]
+    if hint in (None, "cube") and matches and matches[0] in ("cross_horizontal",
+                                                           "cross_vertical"):
+        if width % (4 if matches[0] == "cross_horizontal" else 3):
+            matches = []
+    if hint == "cube":
+        matches = [m for m in matches if m.startswith("cross")]
+        if not matches:
+            raise FileFormatError(
+                f"{name}: a cube cross must be 4:3 (horizontal) or 3:4 (vertical) with "
+                f"square faces (got {width} x {height})")
+        return matches[0]
+    if hint is not None:
+        _check_layout(hint)
+        if abs(ratio - ASPECTS[hint]) > 1e-9:
+            raise FileFormatError(f"{name}: a {hint} map must have the aspect ratio "
+                                  f"{ASPECTS[hint]:g} (got {width} x {height})")
+        return hint
+    if not matches:
+        raise FileFormatError(
+            f"{name}: {width} x {height} is no environment map layout (latlong 2:1, "
+            "sphere or angular 1:1, cube cross 4:3 or 3:4)")
+    return matches[0]
+
+
+def pixel_centres(height: int, width: int):
+    """(u, v) of the pixel centres, (H, W, 2)."""
+    u = (np.arange(width) + 0.5) / width
+    v = (np.arange(height) + 0.5) / height
+    uu, vv = np.meshgrid(u, v)
+    return np.stack([uu, vv], axis=-1)
+
+
+def lookup(image, uv, layout: str):
+    """Bilinear lookup of ``image`` (H, W, C) at ``uv`` (..., 2); latlong wraps in u."""
+    height, width = image.shape[:2]
+    x = uv[..., 0] * width - 0.5
+    y = uv[..., 1] * height - 0.5
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+
+    def at(xi, yi):
+        xi = np.mod(xi, width) if layout == "latlong" else np.clip(xi, 0, width - 1)
+        return image[np.clip(yi, 0, height - 1), xi]
+
+    if layout.startswith("cross"):  # no blending across face borders: nearest texel
+        return image[np.clip(np.floor(uv[..., 1] * height).astype(int), 0, height - 1),
+                     np.clip(np.floor(uv[..., 0] * width).astype(int), 0, width - 1)]
+    return ((1 - fx) * (1 - fy) * at(x0, y0) + fx * (1 - fy) * at(x0 + 1, y0)
+            + (1 - fx) * fy * at(x0, y0 + 1) + fx * fy * at(x0 + 1, y0 + 1))
+
+
+def output_shape(layout: str, size: int) -> tuple[int, int]:
+    """(H, W) of a ``layout`` image whose height is ``size`` (a cross: 3 or 4 faces)."""
+    if layout == "latlong":
+        return size, 2 * size
+    if layout == "cross_horizontal":
+        face = max(size // 3, 1)
+        return 3 * face, 4 * face
+    if layout == "cross_vertical":
+        face = max(size // 4, 1)
+        return 4 * face, 3 * face
+    return size, size
+
+
+def convert(image, source: str, target: str, size: int | None = None):
+    """Resample ``image`` (H, W, C) of layout ``source`` into layout ``target``, height
+    ``size`` (default: the source's height); texels outside a sphere, angular map or cross
+    are 0."""
+    image = np.asarray(image, dtype=np.float64)
+    _check_layout(source)
+    _check_layout(target)
+    height, width = output_shape(target, size or image.shape[0])
+    uv = pixel_centres(height, width)
+    valid = PROJECTORS[target][2](uv)
+    d = uv_to_direction(uv, target)
+    d = np.where(valid[..., None], d, np.array([0.0, 1.0, 0.0]))
+    out = lookup(image, direction_to_uv(d, source), source)
+    return np.where(valid[..., None], out, 0.0)
+
+
+def horizontal_illuminance(image, layout: str, up=(0.0, 1.0, 0.0)) -> float:
+    """Illuminance (lux) on a horizontal plane from the map's upper hemisphere: the sum of
+    the texels' luminance Y (Rec. 709 weights of linear RGB radiance) times cos(theta)
+    times their solid angle, times K_m integral V (the photometric convention of
+    ``spectrace help luminous``). Solid angles come from the converted 2:1 latlong grid."""
+    latlong = image if layout == "latlong" else convert(image, layout, "latlong",
+                                                        max(image.shape[0], 64))
+    height, width = latlong.shape[:2]
+    uv = pixel_centres(height, width)
+    d = latlong_to_direction(uv)
+    theta = np.pi * uv[..., 1]
+    solid_angle = (np.pi / height) * (2 * np.pi / width) * np.sin(theta)
+    Y = latlong[..., :3] @ np.array([0.2126, 0.7152, 0.0722]) if latlong.shape[-1] >= 3 \
+        else latlong[..., 0]
+    cos = np.clip(d @ np.asarray(up, dtype=np.float64), 0.0, None)
+    return float(LUX_PER_Y * np.sum(Y * cos * solid_angle))

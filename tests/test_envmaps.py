@@ -1,0 +1,128 @@
+"""Tests of the environment-map projectors (``spectrace.envmaps``): every layout maps a
+direction to the image and back within half a texel, and latlong is Mitsuba's own."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from spectrace import envmaps
+from spectrace.errors import FileFormatError
+
+#: Image height of the round-trip tests (texels).
+SIZE = 96
+
+
+@pytest.mark.parametrize("layout", envmaps.LAYOUTS)
+def test_texel_round_trip(layout):
+    """Every texel centre of a layout, mapped to its direction and back, lands within half
+    a texel of where it started (inside the image area the layout uses)."""
+    height, width = envmaps.output_shape(layout, SIZE)
+    uv = envmaps.pixel_centres(height, width)
+    valid = envmaps.PROJECTORS[layout][2](uv)
+    d = envmaps.uv_to_direction(uv[valid], layout)
+    np.testing.assert_allclose(np.linalg.norm(d, axis=-1), 1.0, atol=1e-12)
+    back = envmaps.direction_to_uv(d, layout)
+    error = np.abs(back - uv[valid])
+    if layout == "latlong":
+        error[:, 0] = np.minimum(error[:, 0], 1 - error[:, 0])  # u wraps around
+    assert np.all(error[:, 0] * width <= 0.5) and np.all(error[:, 1] * height <= 0.5)
+
+
+@pytest.mark.parametrize("layout", envmaps.LAYOUTS)
+def test_direction_round_trip(layout, rng):
+    """Random directions map to the image and back to themselves (within 1e-9 rad)."""
+    d = rng.normal(size=(5000, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    if layout == "sphere":  # the point behind the ball is the whole rim
+        d = d[d[:, 2] > -0.999]
+    back = envmaps.uv_to_direction(envmaps.direction_to_uv(d, layout), layout)
+    angle = np.arccos(np.clip(np.sum(back * d, axis=1), -1, 1))
+    assert angle.max() < 1e-6
+
+
+@pytest.mark.parametrize("layout", ["cross_horizontal", "cross_vertical"])
+def test_cross_faces_meet_without_seams(layout):
+    """Directions just either side of every cube edge land in the two faces that share it
+    and come back as the same direction (the unfolding is continuous)."""
+    edges = []
+    for a in (-1, 1):
+        for b in (-1, 1):
+            for axis in range(3):
+                e = np.zeros(3)
+                others = [i for i in range(3) if i != axis]
+                e[others[0]], e[others[1]] = a, b
+                for t in np.linspace(-0.9, 0.9, 7):
+                    e2 = e.copy()
+                    e2[axis] = t
+                    edges.append(e2)
+    d = envmaps._normalize(np.array(edges))
+    for shift in (1e-7, -1e-7):
+        dd = envmaps._normalize(d + shift * np.roll(d, 1, axis=1))
+        back = envmaps.uv_to_direction(envmaps.direction_to_uv(dd, layout), layout)
+        np.testing.assert_allclose(back, dd, atol=1e-6)
+
+
+def test_latlong_is_mitsubas_envmap_convention(variant_rgb):
+    """A latlong map with one bright texel: Mitsuba's ``envmap`` is brightest in the
+    direction that ``uv_to_direction`` gives for that texel."""
+    import drjit as dr
+    import mitsuba as mi
+
+    height, width = 32, 64
+    image = np.full((height, width, 3), 0.01, dtype=np.float32)
+    row, column = 9, 45
+    image[row, column] = 100.0
+    emitter = mi.load_dict({"type": "envmap", "bitmap": mi.Bitmap(image)})
+    # the texel and its 8 neighbours: Mitsuba's bilinear lookup is brightest at the texel
+    rows, columns = np.meshgrid(np.arange(row - 1, row + 2), np.arange(column - 1, column + 2),
+                                indexing="ij")
+    uv = np.stack([(columns.ravel() + 0.5) / width, (rows.ravel() + 0.5) / height], axis=-1)
+    d = envmaps.uv_to_direction(uv, "latlong")
+    si = dr.zeros(mi.SurfaceInteraction3f, 9)
+    si.wi = mi.Vector3f(*(-d[:, i].astype(np.float32) for i in range(3)))
+    value = np.array(emitter.eval(si))[0]
+    assert np.argmax(value) == 4 and value[4] > 0.5 * 100.0
+
+
+@pytest.mark.parametrize("layout", ["sphere", "angular", "cross_horizontal", "cross_vertical"])
+def test_convert_preserves_a_smooth_map(layout):
+    """A smooth latlong map converted to another layout and back is itself (bilinear
+    resampling error of a smooth function), and its horizontal illuminance is kept."""
+    height, width = 128, 256
+    uv = envmaps.pixel_centres(height, width)
+    d = envmaps.latlong_to_direction(uv)
+    image = np.repeat((1.2 + d[..., 1] + 0.3 * d[..., 0])[..., None], 3, axis=-1)
+    other = envmaps.convert(image, "latlong", layout, 192)
+    back = envmaps.convert(other, layout, "latlong", height)
+    keep = np.abs(d[..., 2] + 1) > 0.05  # the sphere map's rim is a singularity
+    np.testing.assert_allclose(back[keep], image[keep], atol=0.03)
+    assert envmaps.horizontal_illuminance(other, layout) == pytest.approx(
+        envmaps.horizontal_illuminance(image, "latlong"), rel=0.01)
+
+
+def test_horizontal_illuminance_of_a_uniform_map():
+    """A uniform map of luminance Y gives K_m integral V * pi * Y lux on a horizontal plane."""
+    image = np.ones((64, 128, 3))
+    assert envmaps.horizontal_illuminance(image, "latlong") == pytest.approx(
+        envmaps.LUX_PER_Y * np.pi, rel=1e-3)
+
+
+@pytest.mark.parametrize("shape, hint, words", [
+    ((100, 150), None, "no environment map layout"),
+    ((300, 300), "cube", "cube cross must be 4:3"),
+    ((100, 300), "latlong", "aspect ratio"),
+])
+def test_detect_layout_refuses(shape, hint, words):
+    """An image that is none of the layouts, or a cross of the wrong aspect, is refused
+    with one line naming the image."""
+    with pytest.raises(FileFormatError, match=words):
+        envmaps.detect_layout(shape, hint, "in.exr")
+
+
+def test_detect_layout():
+    assert envmaps.detect_layout((64, 128)) == "latlong"
+    assert envmaps.detect_layout((96, 128)) == "cross_horizontal"
+    assert envmaps.detect_layout((128, 96)) == "cross_vertical"
+    assert envmaps.detect_layout((64, 64)) == "sphere"
+    assert envmaps.detect_layout((64, 64), "angular") == "angular"
