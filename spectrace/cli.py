@@ -32,6 +32,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
+    "envmap": ("spectrace.commands.envmap",
+               "convert environment maps between latlong, cube cross and mirror ball"),
 }
 
 EXIT_USAGE = 2

@@ -316,3 +316,110 @@ def horizontal_illuminance(image, layout: str, up=(0.0, 1.0, 0.0)) -> float:
         else latlong[..., 0]
     cos = np.clip(d @ np.asarray(up, dtype=np.float64), 0.0, None)
     return float(LUX_PER_Y * np.sum(Y * cos * solid_angle))
+
+
+# -- files ----------------------------------------------------------------------------------
+
+#: Target names of ``spectrace envmap convert --to`` -> layout.
+TARGETS = {"latlong": "latlong", "cube": "cross_horizontal", "cross_horizontal":
+           "cross_horizontal", "cross_vertical": "cross_vertical", "sphere": "sphere",
+           "angular": "angular"}
+#: Image files read and written (linear radiance; PNG/JPEG are sRGB-decoded when read).
+READ_SUFFIXES = (".exr", ".hdr", ".png", ".jpg", ".jpeg")
+WRITE_SUFFIXES = (".exr", ".hdr")
+
+
+def read_map(path):
+    """An environment map file as (H, W, 3) float64 linear RGB."""
+    from pathlib import Path
+
+    from spectrace import images
+    from spectrace.errors import FileAccessError
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileAccessError(f"{path}: no such file")
+    suffix = path.suffix.lower()
+    if suffix not in READ_SUFFIXES:
+        raise FileFormatError(f"{path}: not an image this reads ({', '.join(READ_SUFFIXES)})")
+    if suffix == ".hdr":
+        import mitsuba as mi
+
+        if mi.variant() is None:
+            mi.set_variant("scalar_rgb")
+        try:
+            bitmap = mi.Bitmap(str(path)).convert(mi.Bitmap.PixelFormat.RGB,
+                                                  mi.Struct.Type.Float32, srgb_gamma=False)
+        except RuntimeError as error:
+            raise FileFormatError(f"cannot read {path}: {first_line_of(error)}") from None
+        return np.array(bitmap, dtype=np.float64)
+    try:
+        return np.asarray(images.read_image(path), dtype=np.float64)
+    except Exception as error:  # noqa: BLE001 - the readers' own errors name the file
+        raise FileFormatError(first_line_of(error)) from None
+
+
+def first_line_of(error) -> str:
+    from spectrace.errors import first_line
+
+    return first_line(error)
+
+
+def write_map(path, image) -> None:
+    """Write a map atomically as float32 EXR (R, G, B) or Radiance RGBE (.hdr)."""
+    from pathlib import Path
+
+    from spectrace import images
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in WRITE_SUFFIXES:
+        raise ParameterError(f"{path}: write an environment map as {' or '.join(WRITE_SUFFIXES)}")
+    images.check_writable(path)
+    if suffix == ".exr":
+        images.write_exr(path, np.asarray(image, dtype=np.float32))
+        return
+    import mitsuba as mi
+
+    if mi.variant() is None:
+        mi.set_variant("scalar_rgb")
+    bitmap = mi.Bitmap(np.ascontiguousarray(image, dtype=np.float32), mi.Bitmap.PixelFormat.RGB)
+    with images.atomic_path(path) as tmp:
+        bitmap.write(tmp, mi.Bitmap.FileFormat.RGBE)
+
+
+def convert_file(source_path, target_path, to: str, source_layout: str | None = None,
+                 size: int | None = None, illuminance: float | None = None,
+                 scale: float | None = None) -> dict:
+    """Convert an environment map file to layout ``to`` (a key of :data:`TARGETS`), scaled
+    by ``scale`` or to ``illuminance`` lux on a horizontal plane from the upper hemisphere.
+    Nothing is written on error. Returns a summary (layouts, shape, lux before and after)."""
+    if to not in TARGETS:
+        raise ParameterError(f"to must be one of {', '.join(TARGETS)} (got {to!r})")
+    if illuminance is not None and scale is not None:
+        raise ParameterError("give either illuminance or scale, not both")
+    if size is not None and size < 1:
+        raise ParameterError(f"size must be >= 1 (got {size})")
+    from pathlib import Path
+
+    if Path(target_path).suffix.lower() not in WRITE_SUFFIXES:
+        raise ParameterError(
+            f"{target_path}: write an environment map as {' or '.join(WRITE_SUFFIXES)}")
+    image = read_map(source_path)
+    hint = {"cube": "cube"}.get(source_layout, source_layout)
+    layout = detect_layout(image.shape, hint, str(source_path))
+    target = TARGETS[to]
+    before = horizontal_illuminance(image, layout)
+    factor = 1.0 if scale is None else float(scale)
+    if illuminance is not None:
+        if not before > 0:
+            raise FileFormatError(f"{source_path}: the upper hemisphere is black; it cannot be "
+                                  "scaled to an illuminance")
+        factor = illuminance / before
+    out = factor * (image if target == layout and size is None
+                    else convert(image, layout, target, size))
+    if not np.all(np.isfinite(out)):
+        raise FileFormatError(f"{source_path}: the map holds non-finite values")
+    write_map(target_path, out)
+    return {"from": layout, "to": target, "shape": out.shape[:2], "lux_in": before,
+            "lux_out": horizontal_illuminance(out, target), "scale": factor}
