@@ -80,3 +80,36 @@ def rectangle_configuration_factor(a: float, b: float, c: float) -> float:
     corner = (A / np.sqrt(1 + A * A) * np.arctan(B / np.sqrt(1 + A * A))
               + B / np.sqrt(1 + B * B) * np.arctan(A / np.sqrt(1 + B * B))) / (2 * np.pi)
     return 4.0 * corner
+
+
+def closed_box(reflectance: float = 0.5) -> dict:
+    """The inside of a cube of side 2 m as six rectangles of identical grey BSDFs (facing
+    in): Mitsuba 3.9.1 merges them into one mesh whose bounding box is invalid."""
+    import mitsuba as mi
+
+    T = mi.ScalarTransform4f()
+    faces = [T.translate([0, 0, -1]), T.translate([0, 0, 1]).rotate([0, 1, 0], 180),
+             T.translate([1, 0, 0]).rotate([0, 1, 0], -90),
+             T.translate([-1, 0, 0]).rotate([0, 1, 0], 90),
+             T.translate([0, 1, 0]).rotate([1, 0, 0], 90),
+             T.translate([0, -1, 0]).rotate([1, 0, 0], -90)]
+    return {f"wall{k}": {"type": "rectangle", "to_world": face,
+                         "bsdf": {"type": "diffuse",
+                                  "reflectance": {"type": "rgb", "value": reflectance}}}
+            for k, face in enumerate(faces)}
+
+
+def render_inside_box(light: dict, integrator: str = "direct", spp: int = 64) -> tuple:
+    """(image, number of shapes after loading) of a camera at the centre of
+    :func:`closed_box` under ``light``."""
+    import mitsuba as mi
+
+    T = mi.ScalarTransform4f()
+    scene = {"type": "scene", "integrator": {"type": integrator}, "light": light,
+             "sensor": {"type": "perspective", "fov": 90,
+                        "to_world": T.look_at([0, 0, 0], [0, 0, -1], [0, 1, 0]),
+                        "film": {"type": "hdrfilm", "width": 16, "height": 16},
+                        "sampler": {"type": "independent", "sample_count": spp}},
+             **closed_box()}
+    loaded = mi.load_dict(scene)
+    return np.array(mi.render(loaded, seed=0)), len(loaded.shapes())

@@ -320,3 +320,18 @@ def test_cct_spectrum(variant_spectral):
                         "cct": 6500.0})
     assert luminous.KM * luminous.photometric_integral(sky.texture) * sky.scale == \
         pytest.approx(LZ, rel=1e-6)
+
+
+@pytest.mark.parametrize("light", [
+    {"type": "ciesky", "sky_type": "uniform", "zenith_luminance": LZ},
+    {"type": "sun", "sun_elevation": 60.0},
+])
+@pytest.mark.parametrize("integrator", ["direct", "path"])
+def test_no_light_inside_a_closed_box(variant_rgb, light, integrator):
+    """Inside a closed box of six identical grey rectangles, which Mitsuba 3.9 merges into
+    one mesh of invalid bounds (its own ``constant`` sky then leaks through the walls), the
+    daylight emitters give exactly 0: their shadow rays do not depend on the scene's
+    bounds."""
+    image, shapes = day.render_inside_box(light, integrator)
+    assert shapes == 1  # the trap is there: every wall merged into one mesh
+    assert np.all(image == 0.0)
