@@ -1,0 +1,94 @@
+"""The daylight factor: indoor illuminance as a share of the unobstructed sky's.
+
+DF = E_in / E_out x 100 %, with E_in the illuminance at a point inside and E_out the
+horizontal illuminance that the same sky gives on an unobstructed horizontal plane, the
+direct sun excluded (CIE S 017:2020, ILV 17-29-190 "daylight factor"). E_out is not
+rendered: the scene's ``ciesky`` knows it analytically (7 pi L_z / 9 for the CIE overcast
+sky, the sky for which the daylight factor is defined; pi L_z for the uniform sky; a
+numerical integral of the standard's formula for the 15 general skies).
+
+EN 17037:2018+A1:2021 (Daylight in buildings, clause 5.1 and annex A, tables A.1 and A.3)
+asks of a room lit through vertical or inclined openings that a target illuminance E_T be
+exceeded on 50 % of the reference plane and a minimum target E_TM on 95 % of it, for half
+of the daylight hours; with daylight factors the targets are D = E / E_v,d,med x 100 %,
+E_v,d,med the median external diffuse horizontal illuminance of the site (table A.3, e.g.
+about 15 000 lx in much of central Europe):
+
+=========  ======================  ======================
+level      E_T on 50 % of plane    E_TM on 95 % of plane
+=========  ======================  ======================
+minimum    300 lx                  100 lx
+medium     500 lx                  300 lx
+high       750 lx                  500 lx
+=========  ======================  ======================
+
+Sources: CEN (2018), EN 17037:2018+A1:2021 *Daylight in buildings*; CIE (2020), CIE S
+017:2020 *ILV*; Moon, Spencer (1942) (the overcast sky); Tregenza, Wilson (2011),
+*Daylighting*, ch. 8.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from spectrace.errors import ParameterError
+
+#: EN 17037 table A.1: level -> (E_T on 50 % of the plane, E_TM on 95 % of it), in lux.
+EN17037_LEVELS = {"minimum": (300.0, 100.0), "medium": (500.0, 300.0), "high": (750.0, 500.0)}
+#: Shares of the reference plane that must exceed E_T and E_TM.
+EN17037_SHARES = (0.50, 0.95)
+
+
+def sky_horizontal_illuminance(scene) -> float:
+    """E_out (lux): the diffuse horizontal illuminance of the scene's ``ciesky``, from its
+    analytic distribution (no rendering). Raises ``ParameterError`` when the scene has none."""
+    for emitter in scene.emitters():
+        value = getattr(emitter, "horizontal_illuminance", None)
+        if value is not None and type(emitter).__name__ == "CIESky":
+            return float(value)
+    raise ParameterError("the scene has no ciesky emitter: a daylight factor needs the sky's "
+                         "unobstructed horizontal illuminance")
+
+
+def daylight_factor(E_inside, E_outside: float):
+    """DF in percent: 100 E_inside / E_outside (any array shape)."""
+    if not E_outside > 0:
+        raise ParameterError(f"E_outside must be > 0 lux (got {E_outside:g})")
+    return 100.0 * np.asarray(E_inside, dtype=np.float64) / E_outside
+
+
+def en17037_targets(median_external_illuminance: float) -> dict[str, tuple[float, float]]:
+    """Daylight-factor targets (D_T, D_TM) in percent per EN 17037 level for a site of
+    median external diffuse illuminance E_v,d,med (lux): D = E / E_v,d,med x 100."""
+    if not median_external_illuminance > 0:
+        raise ParameterError("median_external_illuminance must be > 0 lux "
+                             f"(got {median_external_illuminance:g})")
+    return {level: (100.0 * e_t / median_external_illuminance,
+                    100.0 * e_tm / median_external_illuminance)
+            for level, (e_t, e_tm) in EN17037_LEVELS.items()}
+
+
+def statistics(df, targets=(), median_external_illuminance: float | None = None) -> dict:
+    """Mean, median, minimum and maximum of the daylight factors ``df`` (percent; NaNs are
+    points outside the plane and ignored), the uniformity DF_min / DF_mean, the share of
+    points at or above each DF in ``targets`` and, given E_v,d,med, which EN 17037 levels
+    the plane meets (D_T on 50 % and D_TM on 95 % of the points)."""
+    values = np.asarray(df, dtype=np.float64).ravel()
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        raise ParameterError("df holds no finite daylight factor")
+    mean = float(np.mean(values))
+    result = {"mean": mean, "median": float(np.median(values)), "min": float(values.min()),
+              "max": float(values.max()), "uniformity": float(values.min()) / mean if mean
+              else float("nan"), "points": int(values.size),
+              "share_above": {float(t): float(np.mean(values >= t)) for t in targets}}
+    if median_external_illuminance is not None:
+        levels = {}
+        for level, (d_t, d_tm) in en17037_targets(median_external_illuminance).items():
+            share_t, share_tm = np.mean(values >= d_t), np.mean(values >= d_tm)
+            levels[level] = {"D_T": d_t, "D_TM": d_tm, "share_D_T": float(share_t),
+                             "share_D_TM": float(share_tm),
+                             "met": bool(share_t >= EN17037_SHARES[0]
+                                         and share_tm >= EN17037_SHARES[1])}
+        result["en17037"] = levels
+    return result
