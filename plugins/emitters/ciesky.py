@@ -117,9 +117,10 @@ import math
 
 import drjit as dr
 import mitsuba as mi
-from spectrace.errors import ParameterError
 from spectrace.plugins import params
 from spectrace.plugins.emitters import solar
+
+from spectrace.errors import ParameterError
 
 PLUGIN = "ciesky"
 

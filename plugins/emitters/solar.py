@@ -220,7 +220,6 @@ def read_daylight_spectrum(props, plugin: str):
     default in spectral variants, white in RGB ones) or the D series at ``cct``. Returns
     (texture, watts per lumen)."""
     import mitsuba as mi
-
     from spectrace.plugins import params
     from spectrace.plugins.emitters import luminous
 

@@ -9,7 +9,6 @@ into lux as in ``emitter_checks.lux_from_film_y`` (E_v = K_m CIE_Y_INTEGRAL Y).
 from __future__ import annotations
 
 import numpy as np
-
 from emitter_checks import CIE_Y_INTEGRAL, KM
 
 #: Side (m) of the horizontal square that carries the irradiance meter.
