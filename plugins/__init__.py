@@ -24,6 +24,7 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "emitters.spotlight",
     "emitters.ieslight",
     "emitters.solar",
+    "emitters.distant",
     "emitters.ciesky",
     "emitters.sun",
     "integrators.fog",
@@ -34,7 +35,7 @@ PLUGIN_MODULES: tuple[str, ...] = (
 #: plugin module (the classes they define are rebuilt for the variant like the plugins).
 HELPER_MODULES: frozenset[str] = frozenset(
     {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta", "emitters.solar",
-     "integrators.fog"}
+     "emitters.distant", "integrators.fog"}
 )
 #: XML type name -> the module that registers it (a plugin module is named after its type).
 PLUGINS: dict[str, str] = {

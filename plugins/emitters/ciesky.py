@@ -83,10 +83,9 @@ uniform sky, a numerical integral (2048 x 1024 midpoint rule) otherwise. Luminan
 becomes spectral radiance as for spectrace's other photometric lights (``spectrace help
 luminous``): L_e = L s / (683 integral V s dlambda).
 
-Light tracing (``ptracer``) cannot start rays from this sky: Mitsuba does not tell Python
-emitters the scene's bounds, so ``sample_ray`` returns zero weight; every integrator that
-samples emitters from surfaces (``direct``, ``path``, ``volpath``, ``prb``, ``local``,
-``illuminance``) sees it.
+Light tracing (``ptracer``) cannot start rays from this sky (``spectrace help distant``);
+every integrator that samples emitters from surfaces (``direct``, ``path``, ``volpath``,
+``prb``, ``local``, ``illuminance``) sees it.
 
 Sources
 -------
@@ -118,7 +117,7 @@ import math
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
-from spectrace.plugins.emitters import solar
+from spectrace.plugins.emitters import distant, solar
 
 from spectrace.errors import ParameterError
 
@@ -153,9 +152,6 @@ TABLE_PHI, TABLE_MU = 256, 256
 NORMALIZATION_PHI, NORMALIZATION_MU = 2048, 1024
 #: cos(zenith) floor of the gradation's b / cos Z (exp of it is 0 in float32 anyway).
 COS_FLOOR = 1e-20
-#: Distance (scene units) of the point that stands for the sky in a direction sample:
-#: Mitsuba does not pass a Python emitter the scene's bounds.
-SKY_DISTANCE = 1e6
 
 
 def read_sky_type(props) -> str | int:
@@ -221,7 +217,7 @@ SKY_MODELS = {
 HORIZONTAL_FACTORS = {"cie_overcast": 7.0 * math.pi / 9.0, "uniform": math.pi}
 
 
-class CIESky(mi.Emitter):
+class CIESky(distant.DistantLight):
     """A sky luminance distribution of ISO 15469 (or CIE overcast, uniform) at infinity."""
 
     def __init__(self, props):
@@ -311,9 +307,8 @@ class CIESky(mi.Emitter):
         sky = SKY_MODELS[self.model](cos_z, cos_chi, self.coefficients, self.norm)
         return dr.select(cos_z > 0.0, sky, self.ground)
 
-    def _radiance(self, d, si, active):
-        spectrum = self.texture.eval(si, active)
-        return mi.depolarizer(spectrum * (self.scale * self.relative_luminance(d)))
+    def _radiance_scale(self, d):
+        return self.scale * self.relative_luminance(d)
 
     # -- importance sampling ------------------------------------------------------------
 
@@ -342,7 +337,7 @@ class CIESky(mi.Emitter):
     # -- the emitter interface ----------------------------------------------------------
 
     def eval(self, si, active=True):
-        return self._radiance(-si.wi, si, active)
+        return self._radiance(-si.wi, si.wavelengths, active)
 
     def sample_direction(self, it, sample, active=True):
         index, u, pmf = self.distribution.sample_reuse_pmf(sample.x, active)
@@ -350,52 +345,12 @@ class CIESky(mi.Emitter):
         phi = (mi.Float(i_phi) + u) * self.d_phi
         mu = -1.0 + (mi.Float(i_mu) + sample.y) * self.d_mu
         d = self._to_world(mu, phi)
-        ds = dr.zeros(mi.DirectionSample3f)
-        ds.d = d
-        ds.dist = mi.Float(SKY_DISTANCE)
-        ds.p = it.p + d * SKY_DISTANCE
-        ds.n = -d
-        ds.time = it.time
-        ds.pdf = pmf / (self.d_phi * self.d_mu)
-        ds.delta = False
-        ds.emitter = mi.EmitterPtr(self)
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = it.wavelengths
-        value = self._radiance(d, si, active)
-        weight = dr.select(active & (ds.pdf > 0.0), value / ds.pdf, 0.0)
-        return ds, weight
+        ds = self._direction_sample(it, d, pmf / (self.d_phi * self.d_mu), False)
+        value = self._radiance(d, it.wavelengths, active)
+        return ds, dr.select(active & (ds.pdf > 0.0), value / ds.pdf, 0.0)
 
     def pdf_direction(self, it, ds, active=True):
         return self._pdf(ds.d, active)
-
-    def eval_direction(self, it, ds, active=True):
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = it.wavelengths
-        return self._radiance(ds.d, si, active)
-
-    def sample_wavelengths(self, si, sample, active=True):
-        from spectrace.plugins.emitters import falloff
-
-        wavelengths, weight = self.texture.sample_spectrum(
-            si, falloff.shifted_wavelength_samples(sample), active)
-        return wavelengths, weight * (self.scale * self.relative_luminance(-si.wi))
-
-    def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
-        # Documented: no scene bounds for Python emitters, so no rays from the sky.
-        ray = dr.zeros(mi.Ray3f)
-        ray.time = time
-        return ray, dr.zeros(mi.Spectrum)
-
-    def sample_position(self, time, sample, active=True):
-        ps = dr.zeros(mi.PositionSample3f)
-        ps.time = time
-        return ps, mi.Float(0.0)
-
-    def pdf_position(self, ps, active=True):
-        return mi.Float(0.0)
-
-    def bbox(self):
-        return mi.ScalarBoundingBox3f()
 
     def to_string(self):
         return (f"CIESky[sky_type={self.sky}, zenith_luminance={self.zenith_luminance:g} "

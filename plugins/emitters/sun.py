@@ -44,8 +44,7 @@ A direction sample is uniform over the cone (pdf 1 / Omega) with weight L Omega.
 Mitsuba's ``directional`` emitter the sun is flagged as a delta light: integrators reach it
 only by sampling it (``direct``, ``path``, ``volpath``, ``local``, ``illuminance``), not by
 rays that happen to hit the disk, so the disk is not seen by the camera or in a mirror;
-light tracing (``ptracer``) is not supported (Mitsuba gives Python emitters no scene
-bounds).
+light tracing (``ptracer``) is not supported (``spectrace help distant``).
 
 Sources
 -------
@@ -75,7 +74,7 @@ import math
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
-from spectrace.plugins.emitters import solar
+from spectrace.plugins.emitters import distant, solar
 
 from spectrace.errors import ParameterError
 
@@ -83,8 +82,6 @@ PLUGIN = "sun"
 DEFAULT_ILLUMINANCE = 100000.0
 DEFAULT_ANGULAR_DIAMETER = 0.533
 MAX_ANGULAR_DIAMETER = 20.0
-#: Distance (scene units) of the point that stands for the sun in a direction sample.
-SUN_DISTANCE = 1e6
 
 
 def disk_luminance(illuminance: float, angular_diameter: float) -> float:
@@ -93,7 +90,7 @@ def disk_luminance(illuminance: float, angular_diameter: float) -> float:
     return illuminance / (math.pi * math.sin(alpha) ** 2)
 
 
-class Sun(mi.Emitter):
+class Sun(distant.DistantLight):
     """A uniform disk at infinity of angular diameter delta, E_n lux normal to it."""
 
     def __init__(self, props):
@@ -120,57 +117,21 @@ class Sun(mi.Emitter):
         self.m_flags = mi.EmitterFlags.Infinite | mi.EmitterFlags.DeltaDirection
         self.m_needs_sample_2 = True
 
+    def _radiance_scale(self, d):
+        inside = dr.dot(d, mi.Vector3f(self.direction)) >= self.cos_alpha
+        return dr.select(inside, self.weight / self.solid_angle, 0.0)
+
     def sample_direction(self, it, sample, active=True):
         d = self.frame.to_world(mi.warp.square_to_uniform_cone(sample, self.cos_alpha))
-        ds = dr.zeros(mi.DirectionSample3f)
-        ds.d = d
-        ds.dist = mi.Float(SUN_DISTANCE)
-        ds.p = it.p + d * SUN_DISTANCE
-        ds.n = -d
-        ds.time = it.time
-        ds.pdf = mi.Float(1.0 / self.solid_angle)
-        ds.delta = True
-        ds.emitter = mi.EmitterPtr(self)
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = it.wavelengths
-        value = self.texture.eval(si, active) * self.weight
+        ds = self._direction_sample(it, d, mi.Float(1.0 / self.solid_angle), True)
+        value = self.texture.eval(self._spectral_si(it.wavelengths), active) * self.weight
         return ds, mi.depolarizer(dr.select(active, value, 0.0))
-
-    def eval_direction(self, it, ds, active=True):
-        si = dr.zeros(mi.SurfaceInteraction3f)
-        si.wavelengths = it.wavelengths
-        inside = dr.dot(ds.d, mi.Vector3f(self.direction)) >= self.cos_alpha
-        value = self.texture.eval(si, active) * (self.weight / self.solid_angle)
-        return mi.depolarizer(dr.select(active & inside, value, 0.0))
 
     def pdf_direction(self, it, ds, active=True):
         return mi.Float(0.0)
 
     def eval(self, si, active=True):
         return dr.zeros(mi.Spectrum)
-
-    def sample_wavelengths(self, si, sample, active=True):
-        from spectrace.plugins.emitters import falloff
-
-        wavelengths, weight = self.texture.sample_spectrum(
-            si, falloff.shifted_wavelength_samples(sample), active)
-        return wavelengths, weight * (self.weight / self.solid_angle)
-
-    def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
-        ray = dr.zeros(mi.Ray3f)
-        ray.time = time
-        return ray, dr.zeros(mi.Spectrum)
-
-    def sample_position(self, time, sample, active=True):
-        ps = dr.zeros(mi.PositionSample3f)
-        ps.time = time
-        return ps, mi.Float(0.0)
-
-    def pdf_position(self, ps, active=True):
-        return mi.Float(0.0)
-
-    def bbox(self):
-        return mi.ScalarBoundingBox3f()
 
     def to_string(self):
         return (f"Sun[illuminance={self.illuminance:g} lx, angular_diameter="
