@@ -112,3 +112,39 @@ def render_inside_box(light: dict, integrator: str = "direct", spp: int = 64) ->
              **closed_box()}
     loaded = mi.load_dict(scene)
     return np.array(mi.render(loaded, seed=0)), len(loaded.shapes())
+
+
+def axis_rectangle(axis: str, at: float, first: tuple, second: tuple, reflectance: float):
+    """A black-ish diffuse rectangle in the plane ``axis`` = ``at`` spanning ``first`` and
+    ``second`` (ranges of the two other axes, in x, y, z order); its own BSDF instance."""
+    import mitsuba as mi
+
+    T = mi.ScalarTransform4f()
+    (a0, a1), (b0, b1) = first, second
+    ca, cb, ha, hb = (a0 + a1) / 2, (b0 + b1) / 2, (a1 - a0) / 2, (b1 - b0) / 2
+    if axis == "x":  # spans y, z
+        to_world = T.translate([at, ca, cb]).rotate([0, 1, 0], 90).scale([hb, ha, 1])
+    elif axis == "y":  # spans x, z
+        to_world = T.translate([ca, at, cb]).rotate([1, 0, 0], 90).scale([ha, hb, 1])
+    else:  # spans x, y
+        to_world = T.translate([ca, cb, at]).scale([ha, hb, 1])
+    return {"type": "rectangle", "to_world": to_world,
+            "bsdf": {"type": "diffuse", "reflectance": {"type": "uniform", "value": reflectance}}}
+
+
+def room_with_window(x: tuple, z: tuple, height: float, window_x: tuple,
+                     window_y: tuple) -> dict:
+    """The ceiling and four walls of a room x in ``x``, z in ``z``, y in [0, height], with an
+    opening window_x x window_y in the north wall z = z[0] (no floor: the meter faces up)."""
+    (x0, x1), (z0, z1) = x, z
+    (wx0, wx1), (wy0, wy1) = window_x, window_y
+    parts = [
+        ("y", height, (x0, x1), (z0, z1)),
+        ("x", x0, (0.0, height), (z0, z1)), ("x", x1, (0.0, height), (z0, z1)),
+        ("z", z1, (x0, x1), (0.0, height)),
+        # the north wall around the window
+        ("z", z0, (x0, wx0), (0.0, height)), ("z", z0, (wx1, x1), (0.0, height)),
+        ("z", z0, (wx0, wx1), (0.0, wy0)), ("z", z0, (wx0, wx1), (wy1, height)),
+    ]
+    return {f"part{k}": axis_rectangle(axis, at, first, second, 1e-6 * (k + 1))
+            for k, (axis, at, first, second) in enumerate(parts)}

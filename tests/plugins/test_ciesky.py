@@ -29,6 +29,9 @@ RTOL_MC = 0.01
 #: sqrt((1 - F) / (F N)) = 0.4 %; four of those.
 RTOL_OPENING = 0.016
 SPP_OPENING = 2**18
+#: The window's share of the meter's cosine-distributed rays is smaller (~0.1): 0.6 %
+#: binomial noise, four of those.
+RTOL_WINDOW = 0.025
 #: Direction samples on a cell boundary may be looked up in the neighbouring cell by the
 #: pdf (float32 rounding): the share of samples allowed to differ.
 BOUNDARY_SHARE = 0.01
@@ -335,3 +338,23 @@ def test_no_light_inside_a_closed_box(variant_rgb, light, integrator):
     image, shapes = day.render_inside_box(light, integrator)
     assert shapes == 1  # the trap is there: every wall merged into one mesh
     assert np.all(image == 0.0)
+
+
+@pytest.mark.parametrize("sky_type", ["uniform", "cie_overcast"])
+def test_sky_component_of_a_vertical_window(variant_rgb, sky_type):
+    """At a floor point of a closed room with one window in its north wall (a vertical
+    opening x in [-1, 1], y in [0.5, 2] at distance Z = 1.5), the horizontal illuminance is
+    this file's numerical integral of L cos(theta) d omega over the window (dA y Z / r^4),
+    for the uniform and the CIE overcast sky (L = L_z (1 + 2 y / r) / 3)."""
+    Z, (x0, x1), (y0, y1) = 1.5, (-1.0, 1.0), (0.5, 2.0)
+    n = 1000
+    x = x0 + (np.arange(n) + 0.5) / n * (x1 - x0)
+    y = y0 + (np.arange(n) + 0.5) / n * (y1 - y0)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    r = np.sqrt(X**2 + Y**2 + Z * Z)
+    L = LZ * ((1 + 2 * Y / r) / 3 if sky_type == "cie_overcast" else 1.0)
+    expected = float(np.sum(L * Y * Z / r**4) * ((x1 - x0) / n) * ((y1 - y0) / n))
+    room = day.room_with_window((-3.0, 3.0), (-Z, 3.0), 3.0, (x0, x1), (y0, y1))
+    light = {"type": "ciesky", "sky_type": sky_type, "zenith_luminance": LZ}
+    measured = day.meter_lux(light, room, spp=SPP_OPENING)
+    assert measured == pytest.approx(expected, rel=RTOL_WINDOW)
