@@ -136,6 +136,42 @@ def _face_axes(layout, name):
     return forward, right, up
 
 
+#: File-name tags of six separate cube faces (``IN_{face}.exr``) -> face.
+FACE_TAGS = {"px": "+x", "nx": "-x", "py": "+y", "ny": "-y", "pz": "+z", "nz": "-z"}
+
+
+def assemble_cross(faces: dict, layout: str = "cross_horizontal", name: str = "faces"):
+    """A cross image of ``layout`` from six square face images {face: (N, N, C)} (faces
+    named as in :data:`FACES`, each seen from inside as there: right R, up U)."""
+    cells, (columns, rows), turned = CROSS_CELLS[layout]
+    if set(faces) != set(FACES):
+        raise FileFormatError(f"{name}: need the six faces {', '.join(FACES)}")
+    shapes = {np.shape(image) for image in faces.values()}
+    size = next(iter(shapes))[0]
+    if len(shapes) != 1 or next(iter(shapes))[1] != size:
+        raise FileFormatError(f"{name}: the six faces must be squares of one size "
+                              f"(got {sorted(s[:2] for s in shapes)})")
+    channels = next(iter(shapes))[2]
+    cross = np.zeros((rows * size, columns * size, channels))
+    for face, (column, row) in cells.items():
+        image = np.asarray(faces[face], dtype=np.float64)
+        if face in turned:
+            image = image[::-1, ::-1]
+        cross[row * size:(row + 1) * size, column * size:(column + 1) * size] = image
+    return cross
+
+
+def split_cross(cross, layout: str = "cross_horizontal") -> dict:
+    """The six faces {face: image} of a cross image (the inverse of :func:`assemble_cross`)."""
+    cells, (columns, rows), turned = CROSS_CELLS[layout]
+    size = cross.shape[0] // rows
+    faces = {}
+    for face, (column, row) in cells.items():
+        image = cross[row * size:(row + 1) * size, column * size:(column + 1) * size]
+        faces[face] = image[::-1, ::-1] if face in turned else image
+    return faces
+
+
 def cube_to_uv(d, layout="cross_horizontal"):
     """(u, v) in the cross of ``layout`` of the directions ``d``."""
     cells, (columns, rows), _ = CROSS_CELLS[layout]
@@ -321,9 +357,9 @@ def horizontal_illuminance(image, layout: str, up=(0.0, 1.0, 0.0)) -> float:
 # -- files ----------------------------------------------------------------------------------
 
 #: Target names of ``spectrace envmap convert --to`` -> layout.
-TARGETS = {"latlong": "latlong", "cube": "cross_horizontal", "cross_horizontal":
-           "cross_horizontal", "cross_vertical": "cross_vertical", "sphere": "sphere",
-           "angular": "angular"}
+TARGETS = {"latlong": "latlong", "cube": "cross_horizontal", "faces": "cross_horizontal",
+           "cross_horizontal": "cross_horizontal", "cross_vertical": "cross_vertical",
+           "sphere": "sphere", "angular": "angular"}
 #: Image files read and written (linear radiance; PNG/JPEG are sRGB-decoded when read).
 READ_SUFFIXES = (".exr", ".hdr", ".png", ".jpg", ".jpeg")
 WRITE_SUFFIXES = (".exr", ".hdr")
@@ -402,12 +438,20 @@ def convert_file(source_path, target_path, to: str, source_layout: str | None = 
         raise ParameterError(f"size must be >= 1 (got {size})")
     from pathlib import Path
 
+    if to == "faces" and "{face}" not in str(target_path):
+        raise ParameterError(f"{target_path}: six faces need a file name with {{face}} "
+                             "(replaced by px, nx, py, ny, pz, nz)")
     if Path(target_path).suffix.lower() not in WRITE_SUFFIXES:
         raise ParameterError(
             f"{target_path}: write an environment map as {' or '.join(WRITE_SUFFIXES)}")
-    image = read_map(source_path)
-    hint = {"cube": "cube"}.get(source_layout, source_layout)
-    layout = detect_layout(image.shape, hint, str(source_path))
+    if "{face}" in str(source_path):  # six separate faces
+        faces = {face: read_map(str(source_path).replace("{face}", tag))
+                 for tag, face in FACE_TAGS.items()}
+        image, layout = assemble_cross(faces, name=str(source_path)), "cross_horizontal"
+    else:
+        image = read_map(source_path)
+        hint = {"cube": "cube"}.get(source_layout, source_layout)
+        layout = detect_layout(image.shape, hint, str(source_path))
     target = TARGETS[to]
     before = horizontal_illuminance(image, layout)
     factor = 1.0 if scale is None else float(scale)
@@ -420,6 +464,15 @@ def convert_file(source_path, target_path, to: str, source_layout: str | None = 
                     else convert(image, layout, target, size))
     if not np.all(np.isfinite(out)):
         raise FileFormatError(f"{source_path}: the map holds non-finite values")
-    write_map(target_path, out)
+    if to == "faces":
+        from spectrace import images
+
+        for tag in FACE_TAGS:
+            images.check_writable(str(target_path).replace("{face}", tag))
+        faces = split_cross(out)
+        for tag, face in FACE_TAGS.items():
+            write_map(str(target_path).replace("{face}", tag), faces[face])
+    else:
+        write_map(target_path, out)
     return {"from": layout, "to": target, "shape": out.shape[:2], "lux_in": before,
             "lux_out": horizontal_illuminance(out, target), "scale": factor}

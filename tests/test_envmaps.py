@@ -126,3 +126,23 @@ def test_detect_layout():
     assert envmaps.detect_layout((128, 96)) == "cross_vertical"
     assert envmaps.detect_layout((64, 64)) == "sphere"
     assert envmaps.detect_layout((64, 64), "angular") == "angular"
+
+
+def test_six_faces_round_trip(rng):
+    """A cross split into its six faces and assembled again is the same cross, in both
+    cross layouts."""
+    for layout in ("cross_horizontal", "cross_vertical"):
+        height, width = envmaps.output_shape(layout, 48)
+        cross = rng.random((height, width, 3)) * envmaps.PROJECTORS[layout][2](
+            envmaps.pixel_centres(height, width))[..., None]
+        faces = envmaps.split_cross(cross, layout)
+        face = height // (3 if layout == "cross_horizontal" else 4)
+        assert set(faces) == set(envmaps.FACES) and faces["+y"].shape == (face, face, 3)
+        np.testing.assert_array_equal(envmaps.assemble_cross(faces, layout), cross)
+
+
+def test_six_faces_must_be_equal_squares():
+    faces = {face: np.ones((8, 8, 3)) for face in envmaps.FACES}
+    faces["-z"] = np.ones((8, 9, 3))
+    with pytest.raises(FileFormatError, match="squares of one size"):
+        envmaps.assemble_cross(faces)

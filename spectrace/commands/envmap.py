@@ -2,8 +2,9 @@
 
 Reads a latitude-longitude (2:1), mirror-ball or angular (1:1; ``--from angular`` for a
 light probe) or cube-cross (4:3 horizontal, 3:4 vertical) map from EXR, HDR or PNG and
-writes it in another layout as EXR or HDR: ``latlong`` is what Mitsuba's ``envmap`` reads
-(with its importance sampling). ``--illuminance LUX`` scales the map so that a horizontal
+writes it in another layout as EXR or HDR (six separate cube faces: a file name with
+``{face}``, replaced by px, nx, py, ny, pz, nz, for the input or with ``--to faces``):
+``latlong`` is what Mitsuba's ``envmap`` reads (with its importance sampling). ``--illuminance LUX`` scales the map so that a horizontal
 plane receives LUX from its upper hemisphere; ``--scale S`` multiplies it. Prints the
 layouts and the illuminance before and after. The projectors are
 :mod:`spectrace.envmaps`.
@@ -17,11 +18,14 @@ from spectrace.errors import UsageError
 def add_arguments(parser) -> None:
     sub = parser.add_subparsers(dest="action", required=True)
     convert = sub.add_parser("convert", help="convert a map to another layout")
-    convert.add_argument("input", help="map to read (.exr, .hdr, .png)")
+    convert.add_argument("input", help="map to read (.exr, .hdr, .png); six separate cube "
+                                       "faces as one name with {face} (px, nx, py, ny, pz, nz)")
     convert.add_argument("output", help="map to write (.exr or .hdr)")
     convert.add_argument("--to", required=True,
-                         choices=["latlong", "cube", "sphere", "angular", "cross_vertical"],
-                         help="layout to write (cube: a horizontal cross)")
+                         choices=["latlong", "cube", "sphere", "angular", "cross_vertical",
+                                  "faces"],
+                         help="layout to write (cube: a horizontal cross; faces: six files, "
+                              "OUTPUT names them with {face})")
     convert.add_argument("--from", dest="source", default=None,
                          choices=["latlong", "sphere", "angular", "cube"],
                          help="layout of the input (default: from its aspect ratio; a square "

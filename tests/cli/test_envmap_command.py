@@ -76,3 +76,21 @@ def test_missing_file(tmp_path, capsys):
                  "--to", "cube"]) == EXIT_USAGE
     assert "no such file" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_six_faces(latlong, tmp_path):
+    """``--to faces`` writes six face files; read back through ``{face}`` they convert to
+    the same latlong map as the cross does."""
+    path, image = latlong
+    pattern = tmp_path / "face_{face}.exr"
+    assert main(["envmap", "convert", str(path), str(pattern), "--to", "faces",
+                 "--size", "96"]) == 0
+    assert sorted(p.name for p in tmp_path.glob("face_*.exr")) == sorted(
+        f"face_{tag}.exr" for tag in envmaps.FACE_TAGS)
+    cross = tmp_path / "cross.exr"
+    assert main(["envmap", "convert", str(path), str(cross), "--to", "cube",
+                 "--size", "96"]) == 0
+    a, b = tmp_path / "a.exr", tmp_path / "b.exr"
+    assert main(["envmap", "convert", str(pattern), str(a), "--to", "latlong"]) == 0
+    assert main(["envmap", "convert", str(cross), str(b), "--to", "latlong"]) == 0
+    np.testing.assert_array_equal(read_exr(a)[0], read_exr(b)[0])
