@@ -42,12 +42,61 @@ EN17037_SHARES = (0.50, 0.95)
 def sky_horizontal_illuminance(scene) -> float:
     """E_out (lux): the diffuse horizontal illuminance of the scene's ``ciesky``, from its
     analytic distribution (no rendering). Raises ``ParameterError`` when the scene has none."""
+    return float(find_sky(scene).horizontal_illuminance)
+
+
+def find_sky(scene):
+    """The scene's ``ciesky`` emitter (the Python object), or ``ParameterError``."""
     for emitter in scene.emitters():
-        value = getattr(emitter, "horizontal_illuminance", None)
-        if value is not None and type(emitter).__name__ == "CIESky":
-            return float(value)
+        if type(emitter).__name__ == "CIESky":
+            return emitter
     raise ParameterError("the scene has no ciesky emitter: a daylight factor needs the sky's "
                          "unobstructed horizontal illuminance")
+
+
+def sky_component(scene, points, normal=(0.0, 1.0, 0.0), spp: int = 256, seed: int = 0):
+    """Illuminance (lux) that the scene's ``ciesky`` gives straight through the openings
+    at ``points`` (N, 3) on surfaces of unit ``normal``: the sky component of the daylight
+    factor (no light reflected by the scene), and its standard error, two (N,) arrays.
+
+    Monte Carlo with ``spp`` directions per point drawn by the sky's own importance
+    sampling and Mitsuba's shadow rays (``scene.ray_test``). The luminous conversion is
+    spectrace's (``spectrace help luminous``): K_m integral V E dlambda over wavelengths
+    drawn uniformly in spectral variants, K_m Y(E) integral V in RGB and mono ones.
+    """
+    import drjit as dr
+    import mitsuba as mi
+
+    from spectrace.plugins.emitters import luminous
+
+    if spp < 2:
+        raise ParameterError(f"spp must be >= 2 (got {spp})")
+    sky = find_sky(scene)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    n_points = points.shape[0]
+    n = n_points * spp
+    rng = np.random.default_rng(seed)
+    it = dr.zeros(mi.SurfaceInteraction3f, n)
+    p = np.repeat(points, spp, axis=0).astype(np.float32)
+    it.p = mi.Point3f(*(mi.Float(p[:, i]) for i in range(3)))
+    normal = np.asarray(normal, dtype=np.float64) / np.linalg.norm(normal)
+    it.n = mi.Normal3f(*(float(c) for c in normal))
+    it.sh_frame = mi.Frame3f(it.n)
+    weight = None
+    if mi.is_spectral:
+        low, high = luminous.GRID_NM
+        u = rng.random((len(it.wavelengths), n)).astype(np.float32)
+        it.wavelengths = mi.UnpolarizedSpectrum(*(low + (high - low) * mi.Float(row)
+                                                  for row in u))
+        V = luminous.photopic_spectrum().eval(it)
+        weight = mi.unpolarized_spectrum(V) * (high - low)
+    u = rng.random((n, 2)).astype(np.float32)
+    ds, value = sky.sample_direction(it, mi.Point2f(mi.Float(u[:, 0]), mi.Float(u[:, 1])))
+    cos = dr.dot(ds.d, it.n)
+    visible = (cos > 0.0) & ~scene.ray_test(it.spawn_ray_to(ds.p))
+    E = dr.select(visible, mi.unpolarized_spectrum(value) * cos, 0.0)
+    lux = np.array(luminous.illuminance_lux(E, weight), dtype=np.float64).reshape(n_points, spp)
+    return lux.mean(axis=1), lux.std(axis=1, ddof=1) / np.sqrt(spp)
 
 
 def daylight_factor(E_inside, E_outside: float):

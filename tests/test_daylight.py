@@ -72,3 +72,22 @@ def test_no_sky_is_an_error(variant_rgb):
         daylight.sky_horizontal_illuminance(scene)
     with pytest.raises(ParameterError, match="E_outside"):
         daylight.daylight_factor(1.0, 0.0)
+
+
+@pytest.mark.parametrize("variant_name", ["llvm_ad_rgb", "llvm_ad_spectral"])
+def test_sky_component_under_a_roof_opening(variant_name):
+    """``sky_component`` below the centre of a horizontal opening under the uniform sky is
+    E_out F (F the configuration factor), within its own standard error, in RGB and
+    spectral variants."""
+    import mitsuba as mi
+
+    import spectrace
+
+    spectrace.set_variant(variant_name)
+    a, b, c = 2.0, 1.0, 1.5
+    light = {"type": "ciesky", "sky_type": "uniform", "horizontal_illuminance": 10000.0}
+    scene = mi.load_dict({"type": "scene", "light": light, **day.roof_with_opening(c, a, b)})
+    E, stderr = daylight.sky_component(scene, [[0, 0, 0]], spp=2**16)
+    expected = 10000.0 * day.rectangle_configuration_factor(a, b, c)
+    assert abs(E[0] - expected) < 4 * stderr[0] + 1e-3 * expected
+    assert stderr[0] < 0.02 * expected  # a test that can tell 4 % apart
