@@ -99,6 +99,28 @@ def sky_component(scene, points, normal=(0.0, 1.0, 0.0), spp: int = 256, seed: i
     return lux.mean(axis=1), lux.std(axis=1, ddof=1) / np.sqrt(spp)
 
 
+def fisheye_luminance(sky, size: int = 129):
+    """Luminance (cd/m^2) of a ``ciesky`` emitter as an equidistant fisheye image (size x
+    size) seen from below: the zenith at the centre, the horizon on the circle, north at
+    the top and east on the left; NaN outside the circle. Evaluated by the emitter itself."""
+    import drjit as dr
+    import mitsuba as mi
+
+    c = (np.arange(size) + 0.5) / size * 2 - 1
+    s, t = np.meshgrid(c, -c)
+    r = np.hypot(s, t)
+    zenith = np.clip(r, 0.0, 1.0) * np.pi / 2
+    azimuth = np.arctan2(-s, t)
+    east, north, up = (np.array(dr.slice(v), dtype=np.float64) for v in
+                       (sky.east, sky.north, sky.up))
+    d = (np.sin(zenith)[..., None] * (np.sin(azimuth)[..., None] * east
+                                      + np.cos(azimuth)[..., None] * north)
+         + np.cos(zenith)[..., None] * up).reshape(-1, 3).astype(np.float32)
+    value = sky.relative_luminance(mi.Vector3f(*(mi.Float(d[:, i]) for i in range(3))))
+    L = sky.zenith_luminance * np.array(value, dtype=np.float64).reshape(size, size)
+    return np.where(r <= 1.0, L, np.nan)
+
+
 def daylight_factor(E_inside, E_outside: float):
     """DF in percent: 100 E_inside / E_outside (any array shape)."""
     if not E_outside > 0:

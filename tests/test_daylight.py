@@ -91,3 +91,16 @@ def test_sky_component_under_a_roof_opening(variant_name):
     expected = 10000.0 * day.rectangle_configuration_factor(a, b, c)
     assert abs(E[0] - expected) < 4 * stderr[0] + 1e-3 * expected
     assert stderr[0] < 0.02 * expected  # a test that can tell 4 % apart
+
+
+def test_fisheye_orientation(variant_rgb):
+    """The fisheye image has the zenith luminance at its centre, NaN outside the circle,
+    and (seen from below, north up) the sun of azimuth 90 degrees on the left."""
+    import mitsuba as mi
+
+    sky = mi.load_dict({"type": "ciesky", "sky_type": 12, "zenith_luminance": 2000.0,
+                        "sun_azimuth": 90.0, "sun_elevation": 30.0})
+    image = daylight.fisheye_luminance(sky, 65)
+    assert image[32, 32] == pytest.approx(2000.0, rel=1e-4)
+    assert np.isnan(image[0, 0]) and np.isfinite(image[32, 0])
+    assert np.nanargmax(image) // 65 == 32 and np.nanargmax(image) % 65 < 32
