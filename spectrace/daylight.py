@@ -163,3 +163,23 @@ def statistics(df, targets=(), median_external_illuminance: float | None = None)
                                          and share_tm >= EN17037_SHARES[1])}
         result["en17037"] = levels
     return result
+
+
+def report_lines(scene, lux, median_external_illuminance: float | None = None) -> list[str]:
+    """Lines of text on the daylight factors of illuminances ``lux`` (an array; NaNs
+    ignored) under the scene's ``ciesky``: E_out, DF mean/median/min/max, the shares of the
+    points above 1, 2 and 5 %, and EN 17037's levels given E_v,d,med."""
+    E_out = sky_horizontal_illuminance(scene)
+    stats = statistics(daylight_factor(lux, E_out), targets=(1.0, 2.0, 5.0),
+                       median_external_illuminance=median_external_illuminance)
+    lines = [f"daylight factor (E_out {E_out:.6g} lx, the sky's unobstructed horizontal "
+             f"illuminance): DF_mean {stats['mean']:.3g} %, DF_median {stats['median']:.3g} %, "
+             f"DF_min {stats['min']:.3g} %, DF_max {stats['max']:.3g} %",
+             "share of the points at or above " + ", ".join(
+                 f"{target:g} %: {share:.0%}" for target, share in stats["share_above"].items())]
+    for level, verdict in stats.get("en17037", {}).items():
+        lines.append(f"EN 17037 {level}: DF >= {verdict['D_T']:.3g} % on "
+                     f"{verdict['share_D_T']:.0%} (50 % asked), >= {verdict['D_TM']:.3g} % on "
+                     f"{verdict['share_D_TM']:.0%} (95 % asked): "
+                     f"{'met' if verdict['met'] else 'not met'}")
+    return lines

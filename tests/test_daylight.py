@@ -104,3 +104,24 @@ def test_fisheye_orientation(variant_rgb):
     assert image[32, 32] == pytest.approx(2000.0, rel=1e-4)
     assert np.isnan(image[0, 0]) and np.isfinite(image[32, 0])
     assert np.nanargmax(image) // 65 == 32 and np.nanargmax(image) % 65 < 32
+
+
+def test_lux_daylight_factor_flag(tmp_path, capsys):
+    """``spectrace lux --daylight-factor E_MED`` prints the DF statistics against the sky's
+    E_out and EN 17037's verdicts; a scene without a ciesky is one error line, exit 2,
+    before anything is rendered or written."""
+    from spectrace.cli import main
+
+    scene = Path(__file__).resolve().parents[1] / "scenes" / "daylight_room.xml"
+    out = tmp_path / "room.exr"
+    assert main(["lux", str(scene), "-o", str(out), "--plane", "0,0.85,0 0,1,0",
+                 "-D", "res=16", "--spp", "16", "-q", "--daylight-factor", "15000"]) == 0
+    text = capsys.readouterr().out
+    assert "E_out 10000 lx" in text and "DF_median" in text and "EN 17037 minimum" in text
+    other = Path(__file__).resolve().parents[1] / "scenes" / "closed_box.xml"
+    out = tmp_path / "box.exr"
+    assert main(["lux", str(other), "-o", str(out), "-D", "res=8", "--spp", "4", "-q",
+                 "--daylight-factor"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error:") and "no ciesky" in err and len(err.splitlines()) == 1
+    assert not out.exists()
