@@ -358,3 +358,29 @@ def test_sky_component_of_a_vertical_window(variant_rgb, sky_type):
     light = {"type": "ciesky", "sky_type": sky_type, "zenith_luminance": LZ}
     measured = day.meter_lux(light, room, spp=SPP_OPENING)
     assert measured == pytest.approx(expected, rel=RTOL_WINDOW)
+
+
+@pytest.mark.parametrize("position, words", [
+    ('<float name="latitude" value="45"/><float name="longitude" value="5"/>'
+     '<string name="datetime" value="2026-06-21T12:00:00"/>', "no UTC offset"),
+    ('<float name="latitude" value="95"/><float name="longitude" value="5"/>'
+     '<string name="datetime" value="2026-06-21T12:00:00+02:00"/>', "latitude"),
+    ('<float name="sun_elevation" value="-4"/>', "below the horizon"),
+])
+def test_bad_sky_on_the_command_line(tmp_path, capsys, position, words):
+    """A naive datetime, a latitude out of range, a sun below the horizon under a
+    sun-dependent sky: ``spectrace render`` says so in one line, exit 2, writes nothing."""
+    from spectrace.cli import main
+
+    scene = tmp_path / "sky.xml"
+    scene.write_text(f"""<scene version="3.0.0">
+        <integrator type="direct"/>
+        <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/>
+            <integer name="height" value="4"/></film></sensor>
+        <emitter type="ciesky"><integer name="sky_type" value="12"/>{position}</emitter>
+    </scene>""")
+    out = tmp_path / "out.exr"
+    assert main(["render", str(scene), "-o", str(out), "--spp", "1", "-q"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error:") and words in err and len(err.splitlines()) == 1
+    assert not out.exists() and not out.with_suffix(".png").exists()
