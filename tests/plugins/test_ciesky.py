@@ -384,3 +384,10 @@ def test_bad_sky_on_the_command_line(tmp_path, capsys, position, words):
     err = capsys.readouterr().err.strip()
     assert err.startswith("error:") and words in err and len(err.splitlines()) == 1
     assert not out.exists() and not out.with_suffix(".png").exists()
+
+
+def test_every_variant(any_variant):
+    """The uniform sky gives pi L_z lux on Mitsuba's irradiancemeter in every LLVM variant
+    (mono and polarized included: emitted light is unpolarized)."""
+    light = {"type": "ciesky", "sky_type": "uniform", "zenith_luminance": LZ}
+    assert day.meter_lux(light, spp=1024) == pytest.approx(np.pi * LZ, rel=RTOL_MC)
