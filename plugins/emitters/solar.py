@@ -51,7 +51,7 @@ The emitters' luminous quantities become radiance through ``spectrace help lumin
 L_e(lambda) = L_v s(lambda) / (683 integral V s dlambda), the same convention in spectral,
 RGB and mono variants. The D series is colour-science's ``sd_CIE_illuminant_D_series``
 of the chromaticity ``CCT_to_xy_CIE_D`` (CIE 015:2018), imported only when ``cct`` is
-given.
+given; RGB and mono variants use its linear sRGB colour.
 
 Sources
 -------
@@ -228,9 +228,18 @@ def read_daylight_spectrum(props, plugin: str):
             raise ParameterError(f"{plugin}: give either parameter 'spectrum' or 'cct', not both")
         cct = params.read_float(props, plugin, "cct", params.REQUIRED, minimum=CCT_RANGE[0],
                                 maximum=CCT_RANGE[1])
-        from spectrace.spectral import to_mitsuba_spectrum
+        wavelengths, values = daylight_spd(cct)
+        if mi.is_spectral:
+            from spectrace.spectral import to_mitsuba_spectrum
 
-        texture = mi.load_dict(to_mitsuba_spectrum(*daylight_spd(cct)))
+            texture = mi.load_dict(to_mitsuba_spectrum(wavelengths, values))
+        else:  # RGB and mono variants: the SPD's linear sRGB colour (its scale is free)
+            import numpy as np
+            from spectrace.spectral import spd_to_xyz, xyz_to_linear_srgb
+
+            rgb = np.clip(xyz_to_linear_srgb(spd_to_xyz(wavelengths, values)), 0.0, None)
+            rgb = rgb / rgb.max()
+            texture = mi.load_dict({"type": "rgb", "value": [float(c) for c in rgb]})
     else:
         texture = params.read_spectrum(props, plugin, "spectrum", 1.0)
     return texture, luminous.watts_per_lumen(texture, plugin)

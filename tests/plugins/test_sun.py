@@ -140,3 +140,21 @@ def test_sample_direction_chi2(variant_rgb):
     test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample, pdf_func=pdf,
                               sample_dim=2, sample_count=400_000, res=101, ires=64)
     assert test.run(0.01), test.messages
+
+
+@pytest.mark.parametrize("variant_name", ["llvm_ad_rgb", "llvm_ad_mono", "llvm_ad_spectral"])
+def test_cct_keeps_the_illuminance(variant_name):
+    """A sun of a CIE daylight spectrum (``cct``) gives the same lux in every variant: the
+    spectrum sets the colour, ``illuminance`` the scale; in RGB its colour is bluish at
+    10000 K."""
+    import mitsuba as mi
+
+    import spectrace
+
+    spectrace.set_variant(variant_name)
+    light = {"type": "sun", "cct": 10000.0, "illuminance": E_N, "sun_elevation": 90.0}
+    tol = RTOL_LUX if variant_name != "llvm_ad_spectral" else RTOL_SPECTRAL
+    assert checks.lux_at(light, (0.0, 0.0), spp=256) == pytest.approx(E_N, rel=tol)
+    if variant_name == "llvm_ad_rgb":
+        rgb = np.array(mi.load_dict(light).texture.eval(mi.SurfaceInteraction3f())).ravel()
+        assert rgb[2] > rgb[1] > rgb[0]
