@@ -158,3 +158,30 @@ def test_cct_keeps_the_illuminance(variant_name):
     if variant_name == "llvm_ad_rgb":
         rgb = np.array(mi.load_dict(light).texture.eval(mi.SurfaceInteraction3f())).ravel()
         assert rgb[2] > rgb[1] > rgb[0]
+
+
+def test_sun_and_sky_together(variant_rgb):
+    """A ``sun`` and a ``ciesky`` in one scene (the sun is a delta light, so Mitsuba's rule
+    of one environment emitter holds), placed by one datetime: a horizontal plane receives
+    the sky's E_h plus E_n sin(h), h the SPA elevation both share."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import solar
+
+    place = {"latitude": 52.52, "longitude": 13.405, "datetime": "2026-06-20T15:00:00+02:00"}
+    _, elevation = solar.solar_position(52.52, 13.405,
+                                        solar.parse_datetime(place["datetime"], "test"))
+    scene = checks.plane_scene({"type": "sun", "illuminance": E_N, **place})
+    scene["sky"] = {"type": "ciesky", "sky_type": 12, "horizontal_illuminance": 15000.0,
+                    **place}
+    loaded = mi.load_dict(scene)
+    sun, sky = sorted(loaded.emitters(), key=lambda e: type(e).__name__, reverse=True)
+    assert (sun.azimuth, sun.elevation) == (sky.azimuth, sky.elevation)
+    scene["sensor"] = {
+        "type": "radiancemeter", "origin": [0.1, 0.5, 0.2], "direction": [0, -1, 0],
+        "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "luminance",
+                 "rfilter": {"type": "box"}},
+        "sampler": {"type": "independent", "sample_count": 4096},
+    }
+    Y = np.array(mi.render(mi.load_dict(scene), seed=0), dtype=np.float64).ravel()[0]
+    assert checks.lux_from_film_y(Y) == pytest.approx(
+        15000.0 + E_N * np.sin(np.radians(elevation)), rel=0.01)
