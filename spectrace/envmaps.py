@@ -30,11 +30,16 @@ horizontal plane receives from the map's upper hemisphere (the map in W/(m^2 sr)
 the convention of ``spectrace help luminous``, K_m integral V = 683 x 106.857 per unit of
 luminance Y).
 
+:func:`sh_project` and :func:`sh_irradiance` give a map's irradiance for any surface normal
+from its spherical-harmonics projection of order 2 (the irradiance environment map of
+Ramamoorthi and Hanrahan 2001).
+
 Sources: Blinn, Newell (1976), "Texture and reflection in computer generated images",
 CACM 19(10); Greene (1986), "Environment mapping and other applications of world
 projections", IEEE CG&A 6(11); Debevec (1998), "Rendering synthetic objects into real
 scenes", SIGGRAPH (angular map); Miller, Hoffman (1984), SIGGRAPH course notes (sphere
-map).
+map); Ramamoorthi, Hanrahan (2001), "An efficient representation for irradiance environment
+maps", SIGGRAPH.
 """
 
 from __future__ import annotations
@@ -476,3 +481,48 @@ def convert_file(source_path, target_path, to: str, source_layout: str | None = 
         write_map(target_path, out)
     return {"from": layout, "to": target, "shape": out.shape[:2], "lux_in": before,
             "lux_out": horizontal_illuminance(out, target), "scale": factor}
+
+
+# -- irradiance environment maps (spherical harmonics, order 2) ------------------------------
+
+#: A_l: the clamped cosine's spherical-harmonic coefficients for l = 0, 1, 2 (Ramamoorthi
+#: and Hanrahan 2001, eq. 8): E(n) = sum A_l L_lm Y_lm(n).
+SH_COSINE_LOBE = (np.pi, 2.0 * np.pi / 3.0, np.pi / 4.0)
+
+
+def sh_basis(d):
+    """The 9 real spherical harmonics Y_lm (l <= 2, orthonormal on the sphere) at unit
+    directions ``d`` (..., 3): (..., 9) in the order (0,0), (1,-1), (1,0), (1,1), (2,-2),
+    (2,-1), (2,0), (2,1), (2,2) with y, z, x as in Ramamoorthi and Hanrahan (2001), eq. 3."""
+    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    return np.stack([
+        np.full_like(x, 0.282095), 0.488603 * y, 0.488603 * z, 0.488603 * x,
+        1.092548 * x * y, 1.092548 * y * z, 0.315392 * (3 * z * z - 1), 1.092548 * x * z,
+        0.546274 * (x * x - y * y)], axis=-1)
+
+
+#: Band l of each of the 9 coefficients of :func:`sh_basis`.
+SH_BANDS = (0, 1, 1, 1, 2, 2, 2, 2, 2)
+
+
+def sh_project(image, layout: str = "latlong"):
+    """L_lm = integral L(omega) Y_lm(omega) d omega of a map (H, W, C): (9, C), the
+    integral a sum over the texels of its latlong form times their solid angles."""
+    latlong = np.asarray(image, dtype=np.float64)
+    if layout != "latlong":
+        latlong = convert(latlong, layout, "latlong", max(latlong.shape[0], 64))
+    height, width = latlong.shape[:2]
+    uv = pixel_centres(height, width)
+    d = latlong_to_direction(uv)
+    solid_angle = (np.pi / height) * (2 * np.pi / width) * np.sin(np.pi * uv[..., 1])
+    Y = sh_basis(d) * solid_angle[..., None]
+    return np.einsum("hwk,hwc->kc", Y, latlong)
+
+
+def sh_irradiance(coefficients, normals):
+    """Irradiance E(n) = integral L(omega) max(n . omega, 0) d omega (W/m^2, or the map's
+    unit times sr) at unit ``normals`` (..., 3) from the order-2 projection
+    ``coefficients`` (9, C) of :func:`sh_project`: (..., C). Exact for maps without bands
+    above 2; within a few percent for natural maps (Ramamoorthi and Hanrahan 2001)."""
+    A = np.array([SH_COSINE_LOBE[band] for band in SH_BANDS])
+    return sh_basis(np.asarray(normals, dtype=np.float64)) @ (A[:, None] * coefficients)
