@@ -23,6 +23,10 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "emitters.pointlight",
     "emitters.spotlight",
     "emitters.ieslight",
+    "emitters.solar",
+    "emitters.distant",
+    "emitters.ciesky",
+    "emitters.sun",
     "integrators.fog",
     "integrators.local",
     "integrators.illuminance",
@@ -30,7 +34,8 @@ PLUGIN_MODULES: tuple[str, ...] = (
 #: The modules that register no plugin of their own: the shared helpers, executed before any
 #: plugin module (the classes they define are rebuilt for the variant like the plugins).
 HELPER_MODULES: frozenset[str] = frozenset(
-    {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta", "integrators.fog"}
+    {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta", "emitters.solar",
+     "emitters.distant", "integrators.fog"}
 )
 #: XML type name -> the module that registers it (a plugin module is named after its type).
 PLUGINS: dict[str, str] = {

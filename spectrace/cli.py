@@ -35,6 +35,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
               "render the Cartesian product of scene parameters on Dask"),
     "validate": ("spectrace.commands.validate",
                  "the CIE 171:2006 case families against their closed forms"),
+    "envmap": ("spectrace.commands.envmap",
+               "convert environment maps between latlong, cube cross and mirror ball"),
 }
 
 EXIT_USAGE = 2

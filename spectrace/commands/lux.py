@@ -29,6 +29,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="colour scale of the PNG in lux (default 0 to the maximum)")
     parser.add_argument("--log", action="store_true", help="logarithmic colour scale")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    parser.add_argument("--daylight-factor", nargs="?", const=0.0, type=float, default=None,
+                        metavar="E_MED", help="print daylight factors against the ciesky's "
+                        "unobstructed horizontal illuminance (and EN 17037 levels for a site "
+                        "median diffuse illuminance E_MED in lux, if given)")
 
 
 def output_paths(scene: Path, output: str | None) -> dict[str, Path]:
@@ -66,6 +70,10 @@ def run(args) -> int:
     scene = _load(scene_path, params, root)
     if plane is not None:  # before check_writable makes the output's folder
         lux.check_plane_visible(scene, plane)
+    if args.daylight_factor is not None:  # a scene without a ciesky fails before rendering
+        from spectrace import daylight
+
+        daylight.sky_horizontal_illuminance(scene)
     for p in paths.values():  # before rendering: a bad output path costs no render time
         check_writable(p)
     spp = args.spp or scene_spp(scene)
@@ -84,6 +92,10 @@ def run(args) -> int:
     print(f"{scene_path.name}: {luxmap.spp} spp, {luxmap.seconds:.2f} s -> {paths['exr']}")
     pixels = luxmap.valid.size
     print(f"{luxmap.summary()} ({pixels - luxmap.no_data} of {pixels} pixels with data)")
+    if args.daylight_factor is not None:  # daylight factors of the pixels with data
+        for line in daylight.report_lines(scene, luxmap.lux[luxmap.valid],
+                                          args.daylight_factor or None):
+            print(line)
     if luxmap.interrupted:
         print(f"interrupted: saved {luxmap.spp} of {spp} spp", file=sys.stderr)
         return 130
