@@ -20,6 +20,11 @@ Sources
   through a corner) and B-13 (differential element to a parallel disk, off axis).
 * Integrating sphere: Goebel (1967), "Generalized integrating-sphere theory", Applied
   Optics 6(1): E_indirect = Phi rho / (S (1 - rho)) at every point of the wall.
+* Skies: the traditional CIE overcast sky of Moon and Spencer (1942), L(h) = L_z (1 + 2 sin
+  h) / 3 with h the elevation (CIE S 011/E:2003, ISO 15469:2004), and the uniform sky
+  L = L_z; the sky component through an opening is the integral of L(h) cos(theta_p)
+  cos(theta_s) / r^2 over the opening's area (Hopkinson, Petherbridge and Longmore 1966,
+  *Daylighting*, ch. 4), here by Gauss-Legendre quadrature.
 * Thin pane: Fresnel's equations for the s and p polarizations, with the incoherent sum of
   the internal reflections of a non-absorbing plane-parallel slab, T = (1 - R) / (1 + R)
   for each polarization (Born and Wolf, *Principles of Optics*, 7th ed., sec. 1.5 and
@@ -140,3 +145,56 @@ def gauss_legendre_grid(x0, x1, y0, y1, n):
     X, Y = np.meshgrid(x, y, indexing="ij")
     W = np.outer(w, w) * 0.25 * (x1 - x0) * (y1 - y0)
     return X.ravel(), Y.ravel(), W.ravel()
+
+
+def cie_overcast_luminance(sin_elevation, zenith_luminance):
+    """L = L_z (1 + 2 sin h) / 3 (Moon and Spencer 1942; CIE S 011 / ISO 15469 overcast)."""
+    return zenith_luminance * (1.0 + 2.0 * np.asarray(sin_elevation, float)) / 3.0
+
+
+def sky_opening_illuminance(points, normals, corner, edge_a, edge_b, luminance, n=64,
+                            masks=()):
+    """The illuminance (lux) at ``points`` (N, 3) with unit ``normals`` (N, 3) from a sky of
+    luminance ``luminance(sin_elevation)`` (cd/m^2, +y up) seen through the planar
+    parallelogram opening ``corner + s edge_a + t edge_b`` (s, t in [0, 1]):
+    E = integral L(h) cos(theta_p) cos(theta_s) / r^2 dA, with n x n Gauss-Legendre nodes.
+    Directions below a point's horizon or the sky's (h < 0) send nothing, nor those that
+    meet one of the opaque ``masks``, parallelograms (corner, edge_a, edge_b) outside the
+    opening (overhangs, fins)."""
+    points = np.atleast_2d(np.asarray(points, float))
+    normals = np.atleast_2d(np.asarray(normals, float))
+    corner, edge_a, edge_b = (np.asarray(v, float) for v in (corner, edge_a, edge_b))
+    s, t, w = gauss_legendre_grid(0.0, 1.0, 0.0, 1.0, n)
+    nodes = corner + s[:, None] * edge_a + t[:, None] * edge_b
+    normal_s = np.cross(edge_a, edge_b)
+    area = np.linalg.norm(normal_s)
+    normal_s /= area
+    out = np.zeros(len(points))
+    for j, (p, normal) in enumerate(zip(points, normals, strict=True)):
+        r = nodes - p
+        d = np.sqrt(np.sum(r * r, axis=-1))
+        u = r / d[:, None]
+        cos_p = np.clip(u @ normal, 0.0, None)
+        cos_s = np.abs(u @ normal_s)
+        sin_h = u[:, 1]
+        L = np.where(sin_h > 0.0, luminance(sin_h), 0.0)
+        for mask in masks:
+            L = np.where(_meets(p, u, *mask), 0.0, L)
+        out[j] = np.sum(w * area * L * cos_p * cos_s / d**2)
+    return out
+
+
+def _meets(origin, directions, corner, edge_a, edge_b):
+    """Whether rays from ``origin`` along unit ``directions`` (M, 3) meet the parallelogram
+    corner + s edge_a + t edge_b (s, t in [0, 1]) in front of the origin."""
+    corner, edge_a, edge_b = (np.asarray(v, float) for v in (corner, edge_a, edge_b))
+    normal = np.cross(edge_a, edge_b)
+    denom = directions @ normal
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = ((corner - origin) @ normal) / denom
+    hit = origin + t[:, None] * directions - corner
+    # coordinates in the (edge_a, edge_b) basis through the dual basis
+    gram = np.array([[edge_a @ edge_a, edge_a @ edge_b], [edge_a @ edge_b, edge_b @ edge_b]])
+    st = np.linalg.solve(gram, np.stack([hit @ edge_a, hit @ edge_b]))
+    inside = (st[0] >= 0) & (st[0] <= 1) & (st[1] >= 0) & (st[1] <= 1)
+    return np.isfinite(t) & (t > 0) & inside
