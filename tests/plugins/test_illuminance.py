@@ -113,7 +113,6 @@ def test_every_delta_light_follows_the_inverse_square_cosine_law(any_variant):
     100 h / r^3 lux at every pixel, and Mitsuba's ``point`` of radiant intensity I_e beside
     it adds K_m integral(V) I_e h' / r'^3 (a flat spectrum): the two are summed, never
     sampled one at a time (every sample exact), in every variant."""
-    import mitsuba as mi
 
     second, I_e = [0.6, 2.0, -0.4], 0.2
     lights = {
@@ -170,9 +169,10 @@ def test_ieslight_is_exact_at_one_sample(tmp_path):
     above the floor, at one sample per pixel: the spectral variant's lux equal the RGB
     variant's (where every sample is exact) to RTOL_DIRECT, and both the file's
     I(gamma, C) cos / r^2."""
-    import spectrace
     from spectrace.photometry import read_photometry
     from spectrace.scenes import FOLDER
+
+    import spectrace
 
     filename = str(FOLDER / "luminaires" / "wallwasher.ies")
     lux = {}
