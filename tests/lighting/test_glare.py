@@ -80,10 +80,10 @@ def test_rendered_area_light_under_a_uniform_sky(variant):
     average) gives the UGR of the closed form with L = K_m integral(V) L_e,
     L_b = K_m integral(V) L_s and omega the square's solid angle (quadrature)."""
     import mitsuba as mi
+    from spectrace.plugins.emitters import luminous
 
     from spectrace.lighting.glare import ugr
     from spectrace.lighting.luminance import luminance_image
-    from spectrace.plugins.emitters import luminous
 
     T = mi.ScalarTransform4f
     centre, half, L_e, L_s = np.array([0.4, 2.2, -2.0]), 0.15, 20.0, 0.02

@@ -95,9 +95,9 @@ def test_area_light_estimate_and_standard_error(variant):
     samples lies within STDERR_SPAN standard errors of pi L R^2 / (h^2 + R^2) (times
     K_m integral V for a flat spectrum), and the error is small but not zero."""
     import mitsuba as mi
+    from spectrace.plugins.emitters import luminous
 
     from spectrace.lighting.points import measure_points
-    from spectrace.plugins.emitters import luminous
 
     L, R, h = 0.5, 0.5, 1.0
     T = mi.ScalarTransform4f
