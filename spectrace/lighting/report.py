@@ -60,7 +60,8 @@ def luminaires(scene) -> Counter:
             name = os.path.basename(str(getattr(emitter, "path", emitter.filename)))
             found[Luminaire(name, str(keywords.get("MANUFAC", "")), flux)] += 1
         else:
-            found[Luminaire(emitter.class_name(), "", None)] += 1
+            name = getattr(emitter, "plugin_name", None) or emitter.class_name()
+            found[Luminaire(name, "", None)] += 1
     return found
 
 
