@@ -241,7 +241,7 @@ def run_design(args) -> int:
     paths = design_paths(args, scene_path)
     point_data = None
     if args.points is not None:
-        point_data = points.read_points_csv(args.points)
+        point_data = points.read_points_table(args.points)
     params = parse_defines(args.defines)
     root = read_scene_xml(scene_path)
     params = lux.true_units(root, params)
@@ -292,11 +292,12 @@ def run_design(args) -> int:
 def _measure_points(args, scene, point_data, spp, out):
     from spectrace.lighting import luminance, points
 
-    where, vectors = point_data
+    where, vectors, rows = point_data
     if args.luminance:
         values, stderr = luminance.luminance_along(scene, where, vectors, spp=spp,
                                                    seed=args.seed, max_depth=args.max_depth)
-        points.write_points_csv(out, where, vectors, values, stderr, points.LUMINANCE_COLUMNS)
+        points.write_points_csv(out, where, vectors, values, stderr, points.LUMINANCE_COLUMNS,
+                                rows)
         print(f"{len(where)} points: luminance {values.min():.4g} to {values.max():.4g} "
               f"cd/m^2 ({spp} spp) -> {out}")
         return
@@ -304,7 +305,7 @@ def _measure_points(args, scene, point_data, spp, out):
         scene, where, vectors, kind=args.kind, spp=spp, seed=args.seed,
         max_depth=args.max_depth)
     values, stderr = args.maintenance_factor * values, args.maintenance_factor * stderr
-    points.write_points_csv(out, where, vectors, values, stderr)
+    points.write_points_csv(out, where, vectors, values, stderr, rows=rows)
     print(f"{len(where)} points: {args.kind} illuminance {values.min():.4g} to "
           f"{values.max():.4g} lx ({samples} sample(s) per point, MF "
           f"{args.maintenance_factor:g}) -> {out}")

@@ -261,17 +261,10 @@ def measure_grid(scene, grid: Grid, *, maintenance_factor: float = 1.0, spp: int
 
 def write_grid_csv(path, result: GridResult) -> None:
     """``x,y,z,lux,stderr`` per point (scene coordinates, maintained lux); atomic."""
-    import csv
-
-    from spectrace.images import atomic_path
-    from spectrace.lighting.points import CSV_DIGITS
+    from spectrace.lighting.points import write_csv
 
     data = np.column_stack([result.scene_points(), result.lux.ravel(), result.stderr.ravel()])
-    with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
-        writer = csv.writer(f)
-        writer.writerow(("x", "y", "z", "lux", "stderr"))
-        for row in data:
-            writer.writerow([f"{v:.{CSV_DIGITS}g}" for v in row])
+    write_csv(path, ("x", "y", "z", "lux", "stderr"), data)
 
 
 def plot_plan(path, result: GridResult, room=None, title: str | None = None) -> None:

@@ -22,8 +22,8 @@ six columns with a view direction ``dx,dy,dz`` and are written as
 
 from __future__ import annotations
 
-import csv
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -46,56 +46,108 @@ CSV_DIGITS = 9
 
 def read_points_csv(path) -> tuple[np.ndarray, np.ndarray]:
     """(points (N, 3), vectors (N, 3)) of a points file (see the module docstring).
-    FileFormatError naming the file and line when a line has not six numbers;
+    FileFormatError naming the file and line when a line has not six finite numbers;
     FileAccessError when it cannot be read."""
+    points, vectors, _ = read_points_table(path)
+    return points, vectors
+
+
+def read_points_table(path) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """As :func:`read_points_csv`, with the text of each point's line (comments and
+    blanks stripped), which :func:`write_points_csv` can write back as it was."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
     except OSError as e:
         raise FileAccessError(f"cannot read points file {path}: {e.strerror or e}") from None
-    rows = []
-    for number, line in enumerate(text.splitlines(), start=1):
+    lines = text.splitlines()
+    first = _first_data_line(lines)
+    header = first > 0 and not _is_numeric_row(lines[first - 1])
+    try:  # the fast path: numpy's parser
+        with warnings.catch_warnings():  # an empty file: "input contained no data"
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.loadtxt(lines[first:] if header else lines, delimiter=",",
+                              comments="#", ndmin=2, dtype=np.float64)
+        fast = data.shape[1] == len(INPUT_COLUMNS) and bool(np.all(np.isfinite(data)))
+    except ValueError:
+        fast = False
+    if not fast:  # find the line at fault
+        _check_lines(path, lines, first if header else 0)
+    if data.size == 0:
+        raise FileFormatError(f"{path}: no points (one line x,y,z,nx,ny,nz per point)")
+    rows = [r.replace(" ", "") for r in (line.split("#", 1)[0].strip()
+                                         for line in lines[first if header else 0:]) if r]
+    return data[:, :3], data[:, 3:], rows
+
+
+def _is_numeric_row(line: str) -> bool:
+    try:
+        [float(c) for c in line.split("#", 1)[0].split(",")]
+    except ValueError:
+        return False
+    return True
+
+
+def _check_lines(path, lines: list[str], start: int) -> None:
+    """FileFormatError for the first line (after ``start``) without six finite numbers."""
+    rows = 0
+    for number, line in enumerate(lines[start:], start=start + 1):
         line = line.split("#", 1)[0].strip()
         if not line:
             continue
-        cells = [c.strip() for c in line.replace(";", ",").split(",")]
+        cells = [c.strip() for c in line.split(",")]
         try:
             values = [float(c) for c in cells]
         except ValueError:
-            if not rows and number == _first_data_line(text):
-                continue  # the header
             raise FileFormatError(f"{path}, line {number}: expected six numbers "
                                   f"{','.join(INPUT_COLUMNS)} (got {line!r})") from None
         if len(values) != len(INPUT_COLUMNS) or not all(math.isfinite(v) for v in values):
             raise FileFormatError(f"{path}, line {number}: expected six finite numbers "
                                   f"{','.join(INPUT_COLUMNS)} (got {len(values)}: {line!r})")
-        rows.append(values)
-    if not rows:
+        rows += 1
+    if rows == 0:
         raise FileFormatError(f"{path}: no points (one line x,y,z,nx,ny,nz per point)")
-    data = np.asarray(rows, dtype=np.float64)
-    return data[:, :3], data[:, 3:]
+    raise FileFormatError(f"{path}: cannot read the points (one line x,y,z,nx,ny,nz per "
+                          "point)")
 
 
-def _first_data_line(text: str) -> int:
-    """The number of the first line that is neither empty nor a comment."""
-    for number, line in enumerate(text.splitlines(), start=1):
+def _first_data_line(lines: list[str]) -> int:
+    """The number of the first line that is neither empty nor a comment (0: none)."""
+    for number, line in enumerate(lines, start=1):
         if line.split("#", 1)[0].strip():
             return number
     return 0
 
 
-def write_points_csv(path, points, vectors, values, stderr, columns=OUTPUT_COLUMNS) -> None:
-    """Write one row per point: the six input columns, the value and its standard error,
-    under a header of ``columns``; atomic."""
+def write_points_csv(path, points, vectors, values, stderr, columns=OUTPUT_COLUMNS,
+                     rows: list[str] | None = None) -> None:
+    """Write one row per point: the six input columns (the input's own text ``rows``
+    when given, from :func:`read_points_table`), the value and its standard error, under
+    a header of ``columns``; atomic."""
     from spectrace.images import atomic_path
 
-    data = np.column_stack([np.asarray(points, np.float64), np.asarray(vectors, np.float64),
-                            np.asarray(values, np.float64), np.asarray(stderr, np.float64)])
-    with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
-        writer = csv.writer(f)
-        writer.writerow(columns)
-        for row in data:
-            writer.writerow([f"{v:.{CSV_DIGITS}g}" for v in row])
+    if rows is None:
+        data = np.column_stack([np.asarray(points, np.float64),
+                                np.asarray(vectors, np.float64),
+                                np.asarray(values, np.float64), np.asarray(stderr, np.float64)])
+        write_csv(path, columns, data)
+        return
+    fmt = f"%.{CSV_DIGITS}g"
+    results = ((f"{fmt},{fmt}\n" * len(rows)) % tuple(
+        np.column_stack([values, stderr]).astype(np.float64).ravel().tolist())).splitlines()
+    with atomic_path(path) as tmp, open(tmp, "w") as f:
+        f.write(",".join(columns) + "\n")
+        f.write("\n".join(f"{r},{v}" for r, v in zip(rows, results, strict=True)) + "\n")
+
+
+def write_csv(path, columns, data: np.ndarray) -> None:
+    """A header of ``columns`` and one row per row of ``data`` (CSV_DIGITS significant
+    digits); atomic."""
+    from spectrace.images import atomic_path
+
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, data, fmt=f"%.{CSV_DIGITS}g", delimiter=",", header=",".join(columns),
+                   comments="")
 
 
 def check_vectors(vectors: np.ndarray, kind: str, what: str = "normals") -> np.ndarray:

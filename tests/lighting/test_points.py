@@ -114,7 +114,8 @@ def test_area_light_estimate_and_standard_error(variant):
 def test_csv_round_trip(tmp_path):
     """Points written and read back are the same numbers; a header line and comments are
     allowed; the output has the columns x,y,z,nx,ny,nz,lux,stderr."""
-    from spectrace.lighting.points import OUTPUT_COLUMNS, read_points_csv, write_points_csv
+    from spectrace.lighting.points import (OUTPUT_COLUMNS, read_points_csv, read_points_table,
+                                           write_points_csv)
 
     source = tmp_path / "points.csv"
     source.write_text("x,y,z,nx,ny,nz\n# a comment\n0,0.8,0, 0,1,0\n1.5,0.8,-2,1,0,0\n\n")
@@ -128,6 +129,12 @@ def test_csv_round_trip(tmp_path):
     assert lines[0] == ",".join(OUTPUT_COLUMNS)
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     np.testing.assert_allclose(data, np.column_stack([p, n, lux, err]), rtol=1e-8)
+    p, n, rows = read_points_table(source)  # the input's text written back as it was
+    assert rows == ["0,0.8,0,0,1,0", "1.5,0.8,-2,1,0,0"]
+    write_points_csv(out, p, n, lux, err, rows=rows)
+    again = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(again, data)
+    assert out.read_text().splitlines()[1].startswith("0,0.8,0,0,1,0,123.456789,0")
 
 
 @pytest.mark.parametrize(("text", "message"), [
