@@ -164,6 +164,27 @@ def test_delta_lights_are_exact_at_one_sample(any_variant, spectrum):
     np.testing.assert_allclose(lux, expected, rtol=RTOL_DIRECT)
 
 
+def test_hundred_candela_at_one_metre_read_100_lux_at_every_pixel(any_variant):
+    """The issue's case: 100 cd of a non-flat spectrum at the centre of a sphere of radius
+    1 m, seen from its centre at one sample per pixel (a jittered sampler: random
+    wavelengths in spectral variants), reads 100.00 lx at every pixel: min = max = 100
+    to RTOL_DIRECT, U0 = 1."""
+    T = checks.transform()
+    scene = {
+        "type": "scene", "integrator": {"type": "illuminance"},
+        "sensor": {"type": "perspective", "fov": 90,
+                   "to_world": T.look_at([0, 0, 0], [0, 0, 1], [0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 16, "height": 16,
+                            "rfilter": {"type": "box"}},
+                   "sampler": {"type": "independent", "sample_count": 1}},
+        "sphere": {"type": "sphere", "radius": 1.0, "flip_normals": True},
+        "light": {"type": "pointlight", "position": [0, 0, 0], "luminous_intensity": 100.0,
+                  "spectrum": TABULATED},
+    }
+    lux = lux_of(render(scene, seed=7))
+    np.testing.assert_allclose([lux.min(), lux.max()], 100.0, rtol=RTOL_DIRECT)
+
+
 def test_ieslight_is_exact_at_one_sample(tmp_path):
     """A real-looking luminaire file (scenes/luminaires/wallwasher.ies, asymmetric), 2 m
     above the floor, at one sample per pixel: the spectral variant's lux equal the RGB
