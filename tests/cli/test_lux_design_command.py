@@ -174,3 +174,20 @@ def test_bad_input_exits_2_in_one_line_and_writes_nothing(tmp_path, capsys, monk
     assert err and err[-1].startswith("error: ") and words in err[-1], err
     assert "Traceback" not in "\n".join(err)
     assert set(os.listdir(tmp_path)) == before
+
+
+def test_luminance_at_points(tmp_path):
+    """--luminance --points: the six columns are a point and a view direction; looking at
+    the area lamp (RGB radiance 5, seen directly) gives 5 K_m integral V cd/m^2, and the
+    output has the columns x,y,z,dx,dy,dz,luminance,stderr."""
+    from spectrace.plugins.emitters import luminous
+
+    scene = write_room(tmp_path, LAMP)
+    source = tmp_path / "views.csv"
+    source.write_text("3.3,1.2,-3,0,1,0\n3.3,1.2,-3,0,3,0.01\n")
+    out = tmp_path / "L.csv"
+    assert main(["lux", str(scene), "--luminance", "--points", str(source), "-o", str(out),
+                 "--variant", "llvm_ad_rgb", "-q", "--spp", "4"]) == 0
+    assert out.read_text().splitlines()[0] == "x,y,z,dx,dy,dz,luminance,stderr"
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(data[:, 6], 5 * 683.0 * luminous.v_integral(), rtol=RTOL_EXACT)
