@@ -23,7 +23,8 @@ script:
 The table also shows the largest relative difference to the numpy values (points with at
 least 1 % of the peak). Aims (issue 20): large grid spectrace process <= rtrace process;
 render <= 5 x numpy. On the small grid start-up dominates; ``spectrace render`` of an 8 x 8
-image of the same scene is shown beside it.
+image of the same scene is shown beside it, and the seconds that both spend importing
+colour-science (``import colour`` in a fresh interpreter, less the interpreter's start).
 
 Run: ``.venv/bin/python benchmarks/bench_lux.py [--sizes 13,512] [--repeats 3]
 [--variant llvm_ad_spectral]``
@@ -43,9 +44,9 @@ from pathlib import Path
 
 import numpy as np
 from _timing import print_table
+from spectrace.scenes import FOLDER
 
 import spectrace
-from spectrace.scenes import FOLDER
 
 IES = FOLDER / "luminaires" / "downlight.ies"
 HEIGHT = 2.5
@@ -144,8 +145,9 @@ def main() -> int:
     sizes = [int(s) for s in args.sizes.split(",")]
     spectrace_cli = shutil.which("spectrace", path=str(Path(sys.executable).parent)) or \
         "spectrace"
-    from spectrace.lighting.points import measure_points, read_points_csv
     from spectrace.photometry import read_photometry
+
+    from spectrace.lighting.points import measure_points, read_points_csv
 
     photometry = read_photometry(IES)
     spectrace.set_variant(args.variant)
@@ -161,6 +163,10 @@ def main() -> int:
         render_process = process_time([spectrace_cli, "render", str(scene_path), "-o",
                                        str(folder / "r.exr"), "--variant", args.variant,
                                        "-q"], args.repeats)
+        # what the start-up of both commands spends importing colour-science (the
+        # photopic V of the luminous lights; it imports colour.plotting and matplotlib)
+        colour_import = process_time([sys.executable, "-c", "import colour"], args.repeats) \
+            - process_time([sys.executable, "-c", "pass"], args.repeats)
         for n in sizes:
             p = grid_points(n)
             up = np.tile([0.0, 1.0, 0.0], (len(p), 1))
@@ -196,12 +202,14 @@ def main() -> int:
                 lux_r = RADIANCE_EFFICACY * rgb @ np.asarray(RADIANCE_WEIGHTS)
                 diff_rtrace = float(np.max(np.abs(lux_r[lit] / expected[lit] - 1.0)))
             rows.append((f"{n}x{n}", t_numpy, t_render, t_render / t_numpy, t_process,
-                         t_rtrace, t_process / t_rtrace, render_process, diff, diff_rtrace))
+                         t_rtrace, t_process / t_rtrace, render_process, colour_import, diff,
+                         diff_rtrace))
     print(f"direct illuminance from {IES.name}, {args.variant}, median of {args.repeats}")
     print_table([("grid", ">9", ""), ("numpy (s)", ">10", ".4f"), ("render (s)", ">10", ".4f"),
                  ("render/numpy", ">12", ".2f"), ("spectrace (s)", ">13", ".3f"),
                  ("rtrace (s)", ">10", ".3f"), ("spectrace/rtrace", ">16", ".2f"),
-                 ("render cmd (s)", ">14", ".3f"), ("err vs numpy", ">12", ".1e"),
+                 ("render cmd (s)", ">14", ".3f"), ("colour import (s)", ">17", ".3f"),
+                 ("err vs numpy", ">12", ".1e"),
                  ("rtrace err", ">10", ".1e")], rows)
     return 0
 
