@@ -115,8 +115,12 @@ def test_area_light_estimate_and_standard_error(variant):
 def test_csv_round_trip(tmp_path):
     """Points written and read back are the same numbers; a header line and comments are
     allowed; the output has the columns x,y,z,nx,ny,nz,lux,stderr."""
-    from spectrace.lighting.points import (OUTPUT_COLUMNS, read_points_csv, read_points_table,
-                                           write_points_csv)
+    from spectrace.lighting.points import (
+        OUTPUT_COLUMNS,
+        read_points_csv,
+        read_points_table,
+        write_points_csv,
+    )
 
     source = tmp_path / "points.csv"
     source.write_text("x,y,z,nx,ny,nz\n# a comment\n0,0.8,0, 0,1,0\n1.5,0.8,-2,1,0,0\n\n")
