@@ -180,6 +180,9 @@ def _check_design_options(args):
         raise UsageError(f"--border must be >= 0 m (got {args.border:g})")
     if args.max_depth == 0 or args.max_depth < -1:
         raise UsageError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
+    if args.kind == "semicylindrical" and args.grid is not None:
+        raise UsageError("--kind semicylindrical needs a facing direction per point: use "
+                         "--points (a grid's points face up)")
     if args.kind != "planar" and args.max_depth != 1:
         raise UsageError(f"--kind {args.kind}: direct light only (--max-depth 1)")
     if args.report is not None and Path(args.report).suffix.lower() != ".md":
@@ -270,7 +273,8 @@ def run_design(args) -> int:
                                     seed=args.seed, max_depth=args.max_depth, kind=args.kind)
         grids.write_grid_csv(paths["grid"], result)
         grids.plot_plan(paths["plan"], result, grids.room_outline(scene),
-                        title=f"{scene_path.name}: {result.summary()}")
+                        title=f"{scene_path.name}: {result.summary()}",
+                        lights=grids.light_positions(scene))
         print(grid.describe(), f"({result.samples} sample(s) per point)")
         print(result.summary(), f"-> {paths['grid']}")
         study.grid, study.plan_png = result, paths["plan"]

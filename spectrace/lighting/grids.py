@@ -267,10 +267,12 @@ def write_grid_csv(path, result: GridResult) -> None:
     write_csv(path, ("x", "y", "z", "lux", "stderr"), data)
 
 
-def plot_plan(path, result: GridResult, room=None, title: str | None = None) -> None:
+def plot_plan(path, result: GridResult, room=None, title: str | None = None,
+              lights=None) -> None:
     """The plan-view figure (PNG): false colour in lux over the grid's cells with metre
-    axes, iso-lux lines, the points, the grid's rectangle (dashed) and the room outline
-    ``room`` = (x0, y0, x1, y1) in plan metres (the scene's bounds); atomic."""
+    axes, iso-lux lines, the points, the grid's rectangle (dashed), the room outline
+    ``room`` = (x0, y0, x1, y1) in plan metres (the scene's bounds) and the ``lights``'
+    plan positions (K, 2) as stars; atomic."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -310,6 +312,10 @@ def plot_plan(path, result: GridResult, room=None, title: str | None = None) -> 
     if room is not None:
         ax.add_patch(Rectangle((room[0], room[1]), room[2] - room[0], room[3] - room[1],
                                fill=False, edgecolor="black", linewidth=1.5))
+    if lights is not None and len(lights):
+        lights = np.asarray(lights, dtype=np.float64).reshape(-1, 2)
+        ax.plot(lights[:, 0], lights[:, 1], "*", color="orange", markeredgecolor="black",
+                markersize=10, label="lights")
     margin = 0.03 * max(span_x, span_y)
     ax.set_xlim(extent[0] - margin, extent[2] + margin)
     ax.set_ylim(extent[1] - margin, extent[3] + margin)
@@ -327,3 +333,16 @@ def room_outline(scene) -> tuple[float, float, float, float] | None:
         return None
     low, high = bounds
     return float(low[0]), float(-high[2]), float(high[0]), float(-low[2])
+
+
+def light_positions(scene) -> np.ndarray:
+    """Plan (x, y) of the scene's lights at a point (delta-position lights), (K, 2)."""
+    import mitsuba as mi
+
+    found = []
+    for emitter in scene.emitters():
+        if mi.has_flag(emitter.flags(), mi.EmitterFlags.DeltaPosition):
+            ps, _ = emitter.sample_position(0.0, mi.Point2f(0.5))
+            p = np.asarray(ps.p, dtype=np.float64).ravel()
+            found.append((p[0], -p[2]))
+    return np.asarray(found, dtype=np.float64).reshape(-1, 2)
