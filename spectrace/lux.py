@@ -18,6 +18,9 @@ a false-colour PNG with a labelled colour bar and iso-lux contour lines (matplot
 imported here only, with the Agg backend). :func:`lux_scene_tree` prepares a scene's XML
 for the command: ``illuminance`` instead of its integrator, and a box-filtered ``hdrfilm``
 of the same size (each pixel the mean over its footprint) instead of its film.
+
+Calculation grids, sensor points, luminance, glare and reports live in
+:mod:`spectrace.lighting` (one module each).
 """
 
 from __future__ import annotations

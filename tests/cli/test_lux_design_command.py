@@ -150,6 +150,8 @@ BAD = {
     "missing_column": (["--points", "{bad_points}"], "line 2: expected six finite numbers"),
     "grid_and_points": (["--grid", "0,0 6,4 @ 0.8", "--points", "{bad_points}"],
                         "give one of them"),
+    "semicylindrical_grid": (["--grid", "0,0 6,4 @ 0.8", "--kind", "semicylindrical"],
+                             "needs a facing direction"),
     "report_not_md": (["--grid", "0,0 6,4 @ 0.8", "--report", "{tmp}/r.txt"], "must end in .md"),
 }
 
