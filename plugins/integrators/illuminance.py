@@ -135,9 +135,11 @@ AOV_NAMES = ("lux", "measured")
 PLANE_EPSILON = 1e-4
 #: Smallest |cos| between a camera ray and the work plane's normal for a crossing.
 PLANE_MIN_COSINE = 1e-6
-#: Emitted rays per light (from its ``sample_ray``) at whose points the light's spectrum
-#: is evaluated on the 1 nm grid, for the exact luminous factor F of a delta light.
+#: Emitted rays per light (from its ``sample_ray``) and distances (m) along them at whose
+#: points the light's spectrum is evaluated on the 1 nm grid, for the exact luminous factor
+#: F of a delta light (several distances: a windowed falloff may end before one metre).
 REFERENCE_RAYS = 16
+REFERENCE_DISTANCES = (1e-3, 1e-2, 1e-1, 1.0)
 #: The scene's up axis (DESIGN.md: +Y), the axis of the cylinders of E_z and E_sc.
 UP = (0.0, 1.0, 0.0)
 
@@ -184,9 +186,10 @@ def luminous_factors(scene):
     V s is largest and F = K_m sum_1nm V s / s(lambda_0), so that an exact light's lux is
     F times its emitted value at lambda_0 times the geometric term (see the module page);
     F = -1 for a light that is sampled instead. Spectral variants only. The light's
-    spectrum is read through its own ``sample_direction``, at REFERENCE_RAYS points one
-    metre along rays it emits (``sample_ray``), on the 1 nm grid; the point of most
-    luminous value is used."""
+    spectrum is read through its own ``sample_direction``, at the points REFERENCE_DISTANCES
+    along REFERENCE_RAYS rays it emits (``sample_ray``), on the 1 nm grid; the point of most
+    luminous value is used. A light that gives no visible light at any of them, or that
+    cannot be evaluated so, stays sampled (F = -1)."""
     import numpy as np
 
     emitters = scene.emitters()
@@ -200,30 +203,36 @@ def luminous_factors(scene):
     groups = -(-len(grid) // width)
     padded = np.concatenate([grid, np.full(groups * width - len(grid), grid[-1])])
     V_padded = np.concatenate([V, np.zeros(groups * width - len(grid))])
-    n_ref = REFERENCE_RAYS
+    n_ref = REFERENCE_RAYS * len(REFERENCE_DISTANCES)
     index = np.repeat(np.asarray(exact, dtype=np.uint32), n_ref * groups)
     ref = np.tile(np.repeat(np.arange(n_ref), groups), len(exact))
     group = np.tile(np.arange(groups), len(exact) * n_ref)
-    emitter = dr.gather(mi.EmitterPtr, scene.emitters_dr(), mi.UInt32(index))
+    ray_index, distance = ref % REFERENCE_RAYS, np.asarray(REFERENCE_DISTANCES)[
+        ref // REFERENCE_RAYS]
     # stratified emitted rays, the same for every wavelength group of a reference
-    u = ((ref + 0.5) / n_ref).astype(np.float32)
-    v = np.modf((ref + 0.5) * 0.6180339887498949)[0].astype(np.float32)
-    ray, _ = emitter.sample_ray(0.0, 0.5, mi.Point2f(u, v), mi.Point2f(v, u))
-    it = dr.zeros(mi.SurfaceInteraction3f, len(index))
-    it.p = ray(1.0)
+    u = ((ray_index + 0.5) / REFERENCE_RAYS).astype(np.float32)
+    v = np.modf((ray_index + 0.5) * 0.6180339887498949)[0].astype(np.float32)
     lanes = padded.reshape(groups, width)[group]
-    it.wavelengths = mi.UnpolarizedSpectrum(*[mi.Float(lanes[:, k].astype(np.float32))
-                                             for k in range(width)])
-    _, weight = emitter.sample_direction(it, mi.Point2f(0.5), True)
-    w = np.array(mi.unpolarized_spectrum(weight), dtype=np.float64)  # (width, lanes)
+    try:
+        emitter = dr.gather(mi.EmitterPtr, scene.emitters_dr(), mi.UInt32(index))
+        ray, _ = emitter.sample_ray(0.0, 0.5, mi.Point2f(u, v), mi.Point2f(v, u))
+        it = dr.zeros(mi.SurfaceInteraction3f, len(index))
+        it.p = ray(mi.Float(distance.astype(np.float32)))
+        it.wavelengths = mi.UnpolarizedSpectrum(*[mi.Float(lanes[:, k].astype(np.float32))
+                                                 for k in range(width)])
+        _, weight = emitter.sample_direction(it, mi.Point2f(0.5), True)
+        w = np.array(mi.unpolarized_spectrum(weight), dtype=np.float64)  # (width, lanes)
+    except (RuntimeError, TypeError, ValueError, NotImplementedError) as e:
+        mi.Log(mi.LogLevel.Warn, f"{PLUGIN}: the lights' spectra could not be read for the "
+               f"exact direct light; they are sampled ({str(e).splitlines()[0]})")
+        return F, lam0
     w = w.T.reshape(len(exact), n_ref, groups * width)
     w = np.where(np.isfinite(w), w, 0.0)
     VW = w * V_padded
     for k, j in enumerate(exact):
         best = int(np.argmax(VW[k].sum(axis=1)))
         i0 = int(np.argmax(VW[k, best]))
-        if not VW[k, best, i0] > 0.0:  # no visible light: 0 lux, exactly
-            F[j] = 0.0
+        if not VW[k, best, i0] > 0.0:  # no visible light found: left to sampling
             continue
         F[j] = luminous.KM * VW[k, best].sum() / w[k, best, i0]
         lam0[j] = padded[i0]

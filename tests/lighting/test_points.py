@@ -172,3 +172,25 @@ def test_bad_normals(variant_rgb):
         measure_points(scene, [[0, 0, 0]], [[0, 1, 0]], kind="semicylindrical")
     with pytest.raises(ParameterError, match="kind 'spherical'"):
         measure_points(scene, [[0, 0, 0]], [[0, 1, 0]], kind="spherical")
+
+
+def test_windowed_light_is_exact(variant):
+    """A light whose windowed falloff ends before one metre (R = 0.6 m) is still exact:
+    E = I cos / r^2 clamp(1 - (r / R)^4, 0, 1)^2 at points 0.3 m below and beside it
+    (its luminous factor is read close to it), one sample, standard error 0."""
+    import mitsuba as mi
+
+    from spectrace.lighting.points import measure_points
+
+    light = np.array([0.0, 0.3, 0.0])
+    scene = mi.load_dict({"type": "scene", "light": {
+        "type": "pointlight", "position": light.tolist(), "luminous_intensity": 50.0,
+        "spectrum": TABULATED, "falloff": "windowed", "radius": 0.6}})
+    x = np.linspace(0.0, 0.6, 7)
+    p = np.column_stack([x, np.zeros(7), np.zeros(7)])
+    lux, stderr, samples = measure_points(scene, p, np.tile([0.0, 1.0, 0.0], (7, 1)))
+    r = np.linalg.norm(light - p, axis=1)
+    window = np.clip(1 - (r / 0.6) ** 4, 0, 1) ** 2
+    expected = 50.0 * (0.3 / r) / r**2 * window
+    assert samples == 1 and np.all(stderr == 0.0)
+    np.testing.assert_allclose(lux, expected, rtol=RTOL_EXACT, atol=RTOL_EXACT * expected.max())
