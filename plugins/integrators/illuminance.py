@@ -64,9 +64,10 @@ holds the body once, whatever their number), each light tested with one shadow r
   E_v(x) = g(x) s(lambda_0) F with F = K_m sum V s / s(lambda_0) (1 nm sum); F and
   lambda_0 (where V s is largest) are computed once per light and per render from the
   light's own ``sample_direction`` on the 1 nm grid (at points where it emits, found
-  with its ``sample_ray``), and every measured point evaluates the light at lambda_0
-  alone. One sample per point gives the exact lux in every variant (RGB and mono: K_m
-  Y(E) integral V, exact as well);
+  with its ``sample_ray``, at 1 mm to 1 m), and every measured point evaluates the light
+  at lambda_0 alone. One sample per point gives the exact lux in every variant (RGB and
+  mono: K_m Y(E) integral V, exact as well). A delta light whose spectrum cannot be read
+  so (no visible light at any of those points) is sampled as below;
 * other lights (area lights, ``constant``, ``envmap``, a gobo ``spotlight``): one sample
   of each light's own sampling and, in spectral variants, four stratified hero
   wavelengths drawn from V (weight integral V), and one cosine-weighted direction per
@@ -91,8 +92,8 @@ mean illuminance on the curved surface of a small vertical cylinder, and
 
 (theta from the vertical +Y, the scene's up axis; omega_h the horizontal part of omega;
 the definitions of cylindrical and semi-cylindrical illuminance in EN 12464-1:2021,
-clause 3, and CIE S 017:2020). These two take light samples
-only (no MIS companion) and direct light only.
+clause 3, and CIE S 017:2020). These two take light samples only (no MIS companion) and
+direct light only.
 
 On a surface the normal is the shading normal, turned towards the camera. The measured
 point needs no BSDF: the surface's material plays no part at the first hit.
