@@ -254,14 +254,22 @@ def run_design(args) -> int:
         raise UserError(f"scene {scene_path}: {e}") from None
     spectrace.set_variant(args.variant, lazy=True)
     scene = _load(scene_path, params, root)
-    try:
-        if grid is not None:
-            grids.check_in_scene(grid, scene)
-        if point_data is not None and not args.luminance:
-            points.check_vectors(point_data[1], args.kind, f"points file {args.points}")
-    except ParameterError as e:
-        flag = "--grid" if grid is not None else "--points"
-        raise UsageError(f"{flag}: {e}") from None
+    checks = []
+    if grid is not None:
+        checks.append(("--grid", lambda: grids.check_in_scene(grid, scene)))
+    if point_data is not None and not args.luminance:
+        checks.append(("--points", lambda: points.check_vectors(
+            point_data[1], args.kind, f"points file {args.points}")))
+    if args.ugr:
+        from spectrace.lighting import glare, luminance
+
+        checks.append(("--ugr", lambda: glare.check_line_of_sight(
+            luminance.line_of_sight(scene.sensors()[0]))))
+    for flag, check in checks:
+        try:
+            check()
+        except ParameterError as e:
+            raise UsageError(f"{flag}: {e}") from None
     for p in paths.values():  # nothing is written before every check has passed
         check_writable(p)
     spp = args.spp or scene_spp(scene)

@@ -66,6 +66,11 @@ def guth_position_index(sigma, tau):
     return np.exp(a * sigma + b * sigma**2)
 
 
+def check_line_of_sight(forward, up=UP) -> None:
+    """ParameterError when the line of sight ``forward`` is vertical."""
+    position_angles(np.zeros((1, 3)), forward, up)
+
+
 def position_angles(directions, forward, up=UP):
     """(sigma, tau, above) of unit ``directions`` (..., 3) for the line of sight
     ``forward``: angles in degrees, and whether each is above its horizontal plane and

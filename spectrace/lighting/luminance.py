@@ -136,6 +136,12 @@ def _camera_rays(sensor, u: np.ndarray, v: np.ndarray):
     return np.asarray(ray.o, dtype=np.float64).T, np.asarray(ray.d, dtype=np.float64).T
 
 
+def line_of_sight(sensor) -> np.ndarray:
+    """The direction of the sensor's ray through the film's centre."""
+    _, forward = _camera_rays(sensor, np.array([0.5]), np.array([0.5]))
+    return forward[0]
+
+
 def _triangle_solid_angle(a, b, c):
     """Solid angle of the spherical triangles of unit vectors a, b, c (..., 3)
     (Van Oosterom and Strackee 1983)."""
@@ -157,8 +163,7 @@ def pixel_geometry(sensor):
     a, b = corners[:-1, :-1], corners[:-1, 1:]
     c, e = corners[1:, 1:], corners[1:, :-1]
     omega = _triangle_solid_angle(a, b, c) + _triangle_solid_angle(a, c, e)
-    o, forward = _camera_rays(sensor, np.array([0.5]), np.array([0.5]))
-    return o[0], forward[0], d.reshape(height, width, 3), omega
+    return origins[0], line_of_sight(sensor), d.reshape(height, width, 3), omega
 
 
 def luminance_image(scene, *, spp: int = 16, seed: int = 0, max_depth: int = 1,
