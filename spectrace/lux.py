@@ -18,6 +18,9 @@ a false-colour PNG with a labelled colour bar and iso-lux contour lines (matplot
 imported here only, with the Agg backend). :func:`lux_scene_tree` prepares a scene's XML
 for the command: ``illuminance`` instead of its integrator, and a box-filtered ``hdrfilm``
 of the same size (each pixel the mean over its footprint) instead of its film.
+
+Calculation grids, sensor points, luminance, glare and reports live in
+:mod:`spectrace.lighting` (one module each).
 """
 
 from __future__ import annotations
@@ -368,9 +371,10 @@ def display_range(luxmap: LuxMap, value_range=None, log: bool = False) -> tuple[
 
 
 def plot_lux(path, luxmap: LuxMap, value_range=None, log: bool = False,
-             title: str | None = None) -> np.ndarray:
-    """Write the false-colour PNG of ``luxmap``: colour bar in lux, iso-lux contour lines
-    (labelled), pixels without data in grey; atomic. Returns the contour levels drawn."""
+             title: str | None = None, label: str = "illuminance E_v (lx)") -> np.ndarray:
+    """Write the false-colour PNG of ``luxmap``: colour bar in lux (``label``), iso-lux
+    contour lines (labelled), pixels without data in grey; atomic. Returns the contour
+    levels drawn."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -400,7 +404,7 @@ def plot_lux(path, luxmap: LuxMap, value_range=None, log: bool = False,
     else:
         lines = None
     bar = fig.colorbar(image, ax=ax)
-    bar.set_label("illuminance E_v (lx)")
+    bar.set_label(label)
     if lines is not None and len(lines.levels):
         bar.add_lines(lines)
     ax.set_axis_off()

@@ -49,22 +49,51 @@ Formula
 
 with K_m = 683 lm/W and V the CIE photopic efficiency, the same convention as the
 luminous units of spectrace's lights, so that 100 cd at 1 m give 100 lux in every
-variant. Spectral variants draw their own wavelengths for the measurement from V
-(importance sampling, four stratified hero wavelengths): E_v is estimated as
-K_m integral(V) mean_i E(lambda_i), unaffected by the sensor's wavelengths, response or
-white point (they need random samples: a ``stratified`` sampler without jitter would draw
-the same wavelengths at every pixel). The estimator of E is unbiased:
+variant. One value of integral V dlambda is used throughout: the 1 nm sum of
+colour-science's CIE 1924 V over 360-830 nm, 106.857 nm (Mitsuba's film normalises its
+Y by 106.750 nm, ``MI_CIE_Y_NORMALIZATION`` in ``mitsuba/core/spectrum.h``, the integral
+of its 5 nm CIE table: 0.09 % less; no lux passes through the film, so that constant
+plays no part here).
+
+The lights are summed by one symbolic Dr.Jit loop over the scene's emitters (the kernel
+holds the body once, whatever their number), each light tested with one shadow ray:
 
 * delta lights (``pointlight``, ``spotlight``, ``ieslight``, Mitsuba's ``point``,
-  ``spot``, ``directional``): the exact contribution of every light, each tested with a
-  shadow ray, summed (no light is picked at random);
-* other lights (area lights, ``constant``, ``envmap``): one sample of each light's own
-  sampling and one cosine-weighted direction per camera sample, combined with the balance
-  heuristic of multiple importance sampling (with ``shadows`` false: the light samples
-  alone, unshadowed);
+  ``spot``, ``directional``) without a spatially varying texture: **exact**, no random
+  part. Their emission is s(lambda) g(x), a spectrum times a geometric term, so
+  E_v(x) = g(x) s(lambda_0) F with F = K_m sum V s / s(lambda_0) (1 nm sum); F and
+  lambda_0 (where V s is largest) are computed once per light and per render from the
+  light's own ``sample_direction`` on the 1 nm grid (at points where it emits, found
+  with its ``sample_ray``, at 1 mm to 1 m), and every measured point evaluates the light
+  at lambda_0 alone. One sample per point gives the exact lux in every variant (RGB and
+  mono: K_m Y(E) integral V, exact as well). A delta light whose spectrum cannot be read
+  so (no visible light at any of those points) is sampled as below;
+* other lights (area lights, ``constant``, ``envmap``, a gobo ``spotlight``): one sample
+  of each light's own sampling and, in spectral variants, four stratified hero
+  wavelengths drawn from V (weight integral V), and one cosine-weighted direction per
+  camera sample, combined with the balance heuristic of multiple importance sampling
+  (with ``shadows`` false: the light samples alone, unshadowed);
 * ``max_depth`` > 1: along the cosine-weighted direction, pi times the radiance reflected
   towards the measured point by the surface it hits, from Mitsuba's ``path`` integrator
   (``max_depth``, emitters hidden at its first hit: their emission is counted above).
+
+The sampled estimates are unbiased. Spectral variants draw their wavelengths for the
+measurement themselves, unaffected by the sensor's wavelengths, response or white point
+(they need random samples: a ``stratified`` sampler without jitter would draw the same
+wavelengths at every pixel).
+
+Other kinds of illuminance at a point (for ``spectrace lux --points``, through
+:meth:`Illuminance.measure`): a plane of normal n (the above), ``cylindrical`` E_z, the
+mean illuminance on the curved surface of a small vertical cylinder, and
+``semicylindrical`` E_sc, on the half of it facing the horizontal direction f::
+
+    E_z  = (1 / pi) integral L_i(omega) sin(theta) domega
+    E_sc = (1 / pi) integral L_i(omega) (sin(theta) + omega_h . f) domega
+
+(theta from the vertical +Y, the scene's up axis; omega_h the horizontal part of omega;
+the definitions of cylindrical and semi-cylindrical illuminance in EN 12464-1:2021,
+clause 3, and CIE S 017:2020). These two take light samples only (no MIS companion) and
+direct light only.
 
 On a surface the normal is the shading normal, turned towards the camera. The measured
 point needs no BSDF: the surface's material plays no part at the first hit.
@@ -109,6 +138,108 @@ AOV_NAMES = ("lux", "measured")
 PLANE_EPSILON = 1e-4
 #: Smallest |cos| between a camera ray and the work plane's normal for a crossing.
 PLANE_MIN_COSINE = 1e-6
+#: Emitted rays per light (from its ``sample_ray``) and distances (m) along them at whose
+#: points the light's spectrum is evaluated on the 1 nm grid, for the exact luminous factor
+#: F of a delta light (several distances: a windowed falloff may end before one metre).
+REFERENCE_RAYS = 16
+REFERENCE_DISTANCES = (1e-3, 1e-2, 1e-1, 1.0)
+#: The scene's up axis (DESIGN.md: +Y), the axis of the cylinders of E_z and E_sc.
+UP = (0.0, 1.0, 0.0)
+
+
+def _planar(n, d):
+    """cos between the surface normal n and the direction d towards the light."""
+    return dr.dot(n, d)
+
+
+def _cylindrical(n, d):
+    """sin(theta) / pi, theta the angle of d from the vertical (E_z's kernel)."""
+    up = mi.Vector3f(*UP)
+    return dr.safe_sqrt(1.0 - dr.square(dr.dot(up, d))) * dr.inv_pi
+
+
+def _semicylindrical(n, d):
+    """(sin(theta) + d_h . f) / pi, f the horizontal unit facing direction made of n."""
+    up = mi.Vector3f(*UP)
+    f = dr.normalize(n - dr.dot(n, up) * up)
+    d_h = d - dr.dot(d, up) * up
+    return (dr.norm(d_h) + dr.dot(d_h, f)) * dr.inv_pi
+
+
+#: Kind of illuminance -> its directional kernel k(n, d): E = integral L_i k domega.
+#: ``planar``: on a plane of normal n (horizontal, vertical or any); ``cylindrical``:
+#: E_z; ``semicylindrical``: E_sc facing the horizontal part of n.
+ILLUMINANCE_KINDS = {
+    "planar": _planar,
+    "cylindrical": _cylindrical,
+    "semicylindrical": _semicylindrical,
+}
+
+
+def is_exact(emitter) -> bool:
+    """Whether the light's illuminance is computed exactly: a delta light whose emitted
+    spectrum is the same in every direction (no spatially varying texture)."""
+    flags = emitter.flags()
+    return mi.has_flag(flags, mi.EmitterFlags.Delta) and \
+        not mi.has_flag(flags, mi.EmitterFlags.SpatiallyVarying)
+
+
+def luminous_factors(scene):
+    """(F, lambda_0) per emitter of ``scene`` as two numpy arrays: lambda_0 (nm) where
+    V s is largest and F = K_m sum_1nm V s / s(lambda_0), so that an exact light's lux is
+    F times its emitted value at lambda_0 times the geometric term (see the module page);
+    F = -1 for a light that is sampled instead. Spectral variants only. The light's
+    spectrum is read through its own ``sample_direction``, at the points REFERENCE_DISTANCES
+    along REFERENCE_RAYS rays it emits (``sample_ray``), on the 1 nm grid; the point of most
+    luminous value is used. A light that gives no visible light at any of them, or that
+    cannot be evaluated so, stays sampled (F = -1)."""
+    import numpy as np
+
+    emitters = scene.emitters()
+    F = np.full(len(emitters), -1.0)
+    lam0 = np.full(len(emitters), 550.0)
+    exact = [j for j, e in enumerate(emitters) if is_exact(e)]
+    if not exact:
+        return F, lam0
+    grid, V = luminous.photopic_efficiency()
+    width = len(mi.UnpolarizedSpectrum())  # wavelengths per lane
+    groups = -(-len(grid) // width)
+    padded = np.concatenate([grid, np.full(groups * width - len(grid), grid[-1])])
+    V_padded = np.concatenate([V, np.zeros(groups * width - len(grid))])
+    n_ref = REFERENCE_RAYS * len(REFERENCE_DISTANCES)
+    index = np.repeat(np.asarray(exact, dtype=np.uint32), n_ref * groups)
+    ref = np.tile(np.repeat(np.arange(n_ref), groups), len(exact))
+    group = np.tile(np.arange(groups), len(exact) * n_ref)
+    ray_index, distance = ref % REFERENCE_RAYS, np.asarray(REFERENCE_DISTANCES)[
+        ref // REFERENCE_RAYS]
+    # stratified emitted rays, the same for every wavelength group of a reference
+    u = ((ray_index + 0.5) / REFERENCE_RAYS).astype(np.float32)
+    v = np.modf((ray_index + 0.5) * 0.6180339887498949)[0].astype(np.float32)
+    lanes = padded.reshape(groups, width)[group]
+    try:
+        emitter = dr.gather(mi.EmitterPtr, scene.emitters_dr(), mi.UInt32(index))
+        ray, _ = emitter.sample_ray(0.0, 0.5, mi.Point2f(u, v), mi.Point2f(v, u))
+        it = dr.zeros(mi.SurfaceInteraction3f, len(index))
+        it.p = ray(mi.Float(distance.astype(np.float32)))
+        it.wavelengths = mi.UnpolarizedSpectrum(*[mi.Float(lanes[:, k].astype(np.float32))
+                                                 for k in range(width)])
+        _, weight = emitter.sample_direction(it, mi.Point2f(0.5), True)
+        w = np.array(mi.unpolarized_spectrum(weight), dtype=np.float64)  # (width, lanes)
+    except (RuntimeError, TypeError, ValueError, NotImplementedError) as e:
+        mi.Log(mi.LogLevel.Warn, f"{PLUGIN}: the lights' spectra could not be read for the "
+               f"exact direct light; they are sampled ({str(e).splitlines()[0]})")
+        return F, lam0
+    w = w.T.reshape(len(exact), n_ref, groups * width)
+    w = np.where(np.isfinite(w), w, 0.0)
+    VW = w * V_padded
+    for k, j in enumerate(exact):
+        best = int(np.argmax(VW[k].sum(axis=1)))
+        i0 = int(np.argmax(VW[k, best]))
+        if not VW[k, best, i0] > 0.0:  # no visible light found: left to sampling
+            continue
+        F[j] = luminous.KM * VW[k, best].sum() / w[k, best, i0]
+        lam0[j] = padded[i0]
+    return F, lam0
 
 
 class Illuminance(mi.SamplingIntegrator):
@@ -153,20 +284,28 @@ class Illuminance(mi.SamplingIntegrator):
     def aov_names(self):
         return list(AOV_NAMES)
 
+    def is_exact(self, scene) -> bool:
+        """Whether this integrator's lux in ``scene`` has no random part (every light
+        exact, direct light only): one sample per point is the answer."""
+        return self.path is None and all(is_exact(e) for e in scene.emitters())
+
     # -- the photometric weighting ---------------------------------------------------
 
     def _wavelengths(self, sampler, active):
-        """Wavelengths for the measurement and the weight V / pdf of each (spectral
-        variants: drawn from V, weight integral V); nothing in RGB and mono variants."""
+        """Wavelengths for the sampled lights, drawn from V (spectral variants; their
+        weight V / pdf is the constant integral V dlambda); nothing in RGB and mono."""
         if not mi.is_spectral:
-            return mi.Color0f(), None
+            return mi.Color0f()
         si = dr.zeros(mi.SurfaceInteraction3f)
-        return self.V.sample_spectrum(si, mi.sample_shifted(sampler.next_1d(active)), active)
+        wavelengths, _ = self.V.sample_spectrum(si, mi.sample_shifted(sampler.next_1d(active)),
+                                                active)
+        return wavelengths
 
     @staticmethod
-    def _lux(E, weight):
-        """K_m times the photometric integral of the irradiance spectrum E."""
-        return luminous.illuminance_lux(E, weight)
+    def _lux(E):
+        """K_m integral V E dlambda of an irradiance E at wavelengths drawn from V (the
+        one integral V of :func:`luminous.v_integral` as their weight)."""
+        return luminous.illuminance_lux(E, luminous.v_integral())
 
     # -- the measured point ----------------------------------------------------------
 
@@ -190,14 +329,9 @@ class Illuminance(mi.SamplingIntegrator):
         pi = scene.ray_intersect_preliminary(ray, coherent=True, active=measured)
         measured &= ~(pi.is_valid() & (pi.t < t * (1.0 - PLANE_EPSILON)))
         t = dr.select(measured, t, 0.0)
-        it = dr.zeros(mi.SurfaceInteraction3f)
-        it.p = ray(t)
+        it = point_interaction(ray(t), n, ray.time, ray.wavelengths)
         it.t = t
-        it.n = n
-        it.sh_frame = mi.Frame3f(n)
         it.wi = it.sh_frame.to_local(-ray.d)
-        it.time = ray.time
-        it.wavelengths = ray.wavelengths
         return it, n, measured
 
     # -- the incident light ----------------------------------------------------------
@@ -207,26 +341,76 @@ class Illuminance(mi.SamplingIntegrator):
             return active
         return active & ~scene.ray_test(it.spawn_ray_to(ds.p), active)
 
-    def _irradiance(self, scene, sampler, it, n, active):
-        """Unbiased estimate of the irradiance spectrum E at ``it`` on the side of ``n``."""
-        E = dr.zeros(mi.Spectrum)
-        emitters = scene.emitters()
-        delta = [mi.has_flag(e.flags(), mi.EmitterFlags.Delta) for e in emitters]
-        mis = self.shadows and not all(delta)
-        for emitter, is_delta in zip(emitters, delta, strict=True):
-            ds, weight = emitter.sample_direction(it, sampler.next_2d(active), active)
-            cos = dr.dot(n, ds.d)
-            lit = active & (cos > 0.0) & (ds.pdf > 0.0) & dr.isfinite(ds.pdf) & dr.any(
-                mi.unpolarized_spectrum(weight) != 0.0)
-            lit = self._visible(scene, it, ds, lit)
-            if is_delta or not mis:
+    def _factors(self, scene):
+        """The luminous factors (F, lambda_0) of the scene's lights as Dr.Jit arrays
+        (spectral variants), computed at each render: a light's parameters may change."""
+        import numpy as np
+
+        F, lam0 = luminous_factors(scene)
+        return mi.Float(F.astype(np.float32)), mi.Float(lam0.astype(np.float32))
+
+    def _direct_lux(self, scene, sampler, it, n, kernel, mis, active):
+        """sum over the scene's lights of their lux at ``it`` (one symbolic loop, one
+        shadow ray per light): exact for exact lights, one light sample otherwise (with
+        the balance-heuristic weight against cosine sampling when ``mis``)."""
+        count = len(scene.emitters())
+        lux = dr.zeros(mi.Float, dr.width(active))
+        if count == 0:
+            return lux
+        emitters = scene.emitters_dr()
+        factors = self._factors(scene) if mi.is_spectral else None
+
+        def body(j, lux, sampler):
+            emitter = dr.gather(mi.EmitterPtr, emitters, j, active)
+            it_j = mi.SurfaceInteraction3f(it)
+            if factors is not None:
+                F = dr.gather(mi.Float, factors[0], j, active)
+                exact = F >= 0.0
+                lam0 = dr.gather(mi.Float, factors[1], j, active)
+                it_j.wavelengths = dr.select(exact, mi.UnpolarizedSpectrum(lam0),
+                                             it.wavelengths)
+            ds, weight = emitter.sample_direction(it_j, sampler.next_2d(active), active)
+            k = kernel(n, ds.d)
+            value = mi.unpolarized_spectrum(weight)
+            lit = active & (k > 0.0) & (ds.pdf > 0.0) & dr.isfinite(ds.pdf) & dr.any(
+                value != 0.0)
+            lit = self._visible(scene, it_j, ds, lit)
+            if mis:  # balance heuristic against the cosine-weighted direction
+                w = dr.select(ds.delta, 1.0, ds.pdf / (ds.pdf + k * dr.inv_pi))
+            else:
                 w = 1.0
-            else:  # balance heuristic against the cosine-weighted direction
-                w = ds.pdf / (ds.pdf + cos * dr.inv_pi)
-            E += dr.select(lit, weight * (cos * w), 0.0)
-        if not (mis or self.path is not None):
-            return E
+            if factors is not None:
+                v = dr.select(exact, F * value[0], self._lux(value))
+            else:
+                v = self._lux(value)
+            lux += dr.select(lit, v * (k * w), 0.0)
+            return j + 1, lux, sampler
+
+        _, lux, _ = dr.while_loop(
+            state=(dr.zeros(mi.UInt32, dr.width(active)), lux, sampler),
+            cond=lambda j, lux, sampler: j < count,
+            body=body,
+            labels=("j", "lux", "sampler"),
+            label="illuminance: lights",
+        )
+        return lux
+
+    def measure(self, scene, sampler, it, n, active, kind="planar"):
+        """The illuminance in lux at the points ``it`` (a surface interaction with
+        positions, time and, in spectral variants, the wavelengths drawn by
+        :meth:`wavelengths`) for the normals (or facing directions) ``n``: of ``kind``
+        in ILLUMINANCE_KINDS. ``planar`` includes the MIS companion direction and the
+        interreflections; the other kinds take direct light by light sampling only."""
+        kernel = ILLUMINANCE_KINDS[kind]
+        planar = kind == "planar"
+        emitters = scene.emitters()
+        mis = planar and self.shadows and not all(
+            mi.has_flag(e.flags(), mi.EmitterFlags.Delta) for e in emitters)
+        lux = self._direct_lux(scene, sampler, it, n, kernel, mis, active)
+        if not planar or not (mis or self.path is not None):
+            return lux
         # one cosine-weighted direction: emission by MIS, and the interreflected light
+        E = dr.zeros(mi.Spectrum)
         frame = mi.Frame3f(n)
         wo = mi.warp.square_to_cosine_hemisphere(sampler.next_2d(active))
         ray = it.spawn_ray(frame.to_world(wo))
@@ -244,21 +428,24 @@ class Illuminance(mi.SamplingIntegrator):
         if self.path is not None:
             Lr, _, _ = self.path.sample(scene, sampler, mi.RayDifferential3f(ray), None, active)
             E += dr.select(active, Lr * dr.pi, 0.0)
-        return E
+        return lux + dr.select(active, self._lux(E), 0.0)
+
+    def wavelengths(self, sampler, active):
+        """The wavelengths of a measurement (see :meth:`measure`)."""
+        return self._wavelengths(sampler, active)
 
     # -- Mitsuba interface -----------------------------------------------------------
 
     def sample(self, scene, sampler, ray, medium=None, active=True):
         active = mi.Bool(active)
-        wavelengths, weight = self._wavelengths(sampler, active)
+        wavelengths = self._wavelengths(sampler, active)
         ray = mi.Ray3f(ray.o, ray.d, ray.maxt, ray.time, wavelengths if mi.is_spectral
                        else ray.wavelengths)
         if self.plane is None:
             it, n, measured = self._surface_point(scene, ray, active)
         else:
             it, n, measured = self._plane_point(scene, ray, active)
-        E = self._irradiance(scene, sampler, it, n, measured)
-        lux = dr.select(measured, self._lux(E, weight), 0.0)
+        lux = dr.select(measured, self.measure(scene, sampler, it, n, measured), 0.0)
         preview = mi.depolarizer(mi.UnpolarizedSpectrum(lux))
         return preview, measured, [lux, dr.select(measured, 1.0, 0.0)]
 
@@ -266,6 +453,19 @@ class Illuminance(mi.SamplingIntegrator):
         plane = "none" if self.plane is None else f"point {self.plane[0]}, normal {self.plane[1]}"
         return (f"Illuminance[max_depth={self.max_depth}, shadows={self.shadows}, "
                 f"plane={plane}]")
+
+
+def point_interaction(p, n, time=0.0, wavelengths=None):
+    """A surface interaction at the points ``p`` with the normal (and shading frame)
+    ``n``: where :meth:`Illuminance.measure` measures, on no surface."""
+    it = dr.zeros(mi.SurfaceInteraction3f, dr.width(p))
+    it.p = p
+    it.n = n
+    it.sh_frame = mi.Frame3f(n)
+    it.time = time
+    if wavelengths is not None:
+        it.wavelengths = wavelengths
+    return it
 
 
 mi.register_integrator(PLUGIN, lambda props: Illuminance(props))

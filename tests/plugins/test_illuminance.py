@@ -16,6 +16,9 @@ import pytest
 
 #: A float32 render against a float64 formula (RGB, mono: every sample exact).
 RTOL_EXACT = 2e-4
+#: Delta lights at one sample per pixel in every variant (the exact direct path: no
+#: wavelength sampling) against their closed forms.
+RTOL_DIRECT = 1e-5
 #: Spectral variants with flat spectra: every sample exact up to Mitsuba's tabulated V
 #: (its trapezoidal integral against colour-science's 1 nm sum).
 RTOL_FLAT_SPECTRAL = 1e-3
@@ -110,7 +113,6 @@ def test_every_delta_light_follows_the_inverse_square_cosine_law(any_variant):
     100 h / r^3 lux at every pixel, and Mitsuba's ``point`` of radiant intensity I_e beside
     it adds K_m integral(V) I_e h' / r'^3 (a flat spectrum): the two are summed, never
     sampled one at a time (every sample exact), in every variant."""
-    import mitsuba as mi
 
     second, I_e = [0.6, 2.0, -0.4], 0.2
     lights = {
@@ -122,10 +124,98 @@ def test_every_delta_light_follows_the_inverse_square_cosine_law(any_variant):
     p = floor_points()
     expected = point_law(p, [0.0, HEIGHT, 0.0], 100.0) + \
         point_law(p, second, KM * v_integral() * I_e)
-    rtol = RTOL_FLAT_SPECTRAL if mi.is_spectral else RTOL_EXACT
-    np.testing.assert_allclose(lux, expected, rtol=rtol)
+    np.testing.assert_allclose(lux, expected, rtol=RTOL_DIRECT)
     centre = np.argmin(np.linalg.norm(p[..., [0, 2]], axis=-1))
     assert expected.ravel()[centre] > 90.0  # the pixels reach the foot of the light
+
+
+D65 = {"type": "d65"}
+TABULATED = {"type": "spectrum", "value": [(400.0, 1.0), (550.0, 3.0), (700.0, 2.0)]}
+
+
+@pytest.mark.parametrize("spectrum", [TABULATED, D65], ids=["tabulated", "d65"])
+def test_delta_lights_are_exact_at_one_sample(any_variant, spectrum):
+    """The illuminance of delta lights has no random part: at one sample per pixel, in
+    every variant, a 100 cd ``pointlight`` of a non-flat spectrum 1 m above the floor
+    gives 100 h / r^3 (100.00 lx at its foot), a 100 cd ``spotlight`` beside it its
+    on-axis 100 cd inside the penumbra, and Mitsuba's ``spot`` (I_e inside its beam
+    width) and ``directional`` (irradiance E_e normal to it at 60 degrees from the
+    vertical) K_m integral(V) I_e h / r^3 and K_m integral(V) E_e cos 60 (flat spectra),
+    all summed."""
+    T = checks.transform()
+    spot_at, I_e, E_e = [0.5, 1.5, -0.3], 0.1, 0.05
+    d = np.array([np.sin(np.pi / 3), -np.cos(np.pi / 3), 0.0])
+    lights = {
+        "light": {"type": "pointlight", "position": [0.0, HEIGHT, 0.0],
+                  "luminous_intensity": 100.0, "spectrum": spectrum},
+        "spotlight": {"type": "spotlight", "luminous_intensity": 100.0, "spectrum": spectrum,
+                      "umbra_angle": 80.0, "penumbra_angle": 75.0,
+                      "to_world": T.look_at([-0.4, 2.0, 0.2], [-0.4, 0.0, 0.2], [0, 0, 1])},
+        "spot": {"type": "spot", "intensity": flat(I_e), "cutoff_angle": 85.0,
+                 "beam_width": 80.0,
+                 "to_world": T.look_at(spot_at, [spot_at[0], 0.0, spot_at[2]], [0, 0, 1])},
+        "sun": {"type": "directional", "direction": d.tolist(), "irradiance": flat(E_e)},
+    }
+    lux = lux_of(render(floor_scene(lights)))
+    p = floor_points()
+    scale = KM * v_integral()
+    expected = (point_law(p, [0.0, HEIGHT, 0.0], 100.0) + point_law(p, [-0.4, 2.0, 0.2], 100.0)
+                + point_law(p, spot_at, scale * I_e) + scale * E_e * 0.5)
+    np.testing.assert_allclose(lux, expected, rtol=RTOL_DIRECT)
+
+
+def test_hundred_candela_at_one_metre_read_100_lux_at_every_pixel(any_variant):
+    """The issue's case: 100 cd of a non-flat spectrum at the centre of a sphere of radius
+    1 m, seen from its centre at one sample per pixel (a jittered sampler: random
+    wavelengths in spectral variants), reads 100.00 lx at every pixel: min = max = 100
+    to RTOL_DIRECT, U0 = 1."""
+    T = checks.transform()
+    scene = {
+        "type": "scene", "integrator": {"type": "illuminance"},
+        "sensor": {"type": "perspective", "fov": 90,
+                   "to_world": T.look_at([0, 0, 0], [0, 0, 1], [0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 16, "height": 16,
+                            "rfilter": {"type": "box"}},
+                   "sampler": {"type": "independent", "sample_count": 1}},
+        "sphere": {"type": "sphere", "radius": 1.0, "flip_normals": True},
+        "light": {"type": "pointlight", "position": [0, 0, 0], "luminous_intensity": 100.0,
+                  "spectrum": TABULATED},
+    }
+    lux = lux_of(render(scene, seed=7))
+    np.testing.assert_allclose([lux.min(), lux.max()], 100.0, rtol=RTOL_DIRECT)
+
+
+def test_ieslight_is_exact_at_one_sample(tmp_path):
+    """A real-looking luminaire file (scenes/luminaires/wallwasher.ies, asymmetric), 2 m
+    above the floor, at one sample per pixel: the spectral variant's lux equal the RGB
+    variant's (where every sample is exact) to RTOL_DIRECT, and both the file's
+    I(gamma, C) cos / r^2."""
+    from spectrace.photometry import read_photometry
+    from spectrace.scenes import FOLDER
+
+    import spectrace
+
+    filename = str(FOLDER / "luminaires" / "wallwasher.ies")
+    lux = {}
+    for variant in ("llvm_ad_rgb", "llvm_ad_spectral"):
+        spectrace.set_variant(variant)
+        T = checks.transform()
+        light = {"light": {"type": "ieslight", "filename": filename, "spectrum": TABULATED,
+                           "to_world": T.look_at([0, 2, 0], [0, 0, 0], [0, 0, 1])}}
+        lux[variant] = lux_of(render(floor_scene(light)))
+    np.testing.assert_allclose(lux["llvm_ad_spectral"], lux["llvm_ad_rgb"], rtol=RTOL_DIRECT,
+                               atol=RTOL_DIRECT * lux["llvm_ad_rgb"].max())
+    # the light frame: local x = world x, local y = world z, local z = world -y
+    p = floor_points()
+    v = p - np.array([0.0, 2.0, 0.0])
+    r = np.linalg.norm(v, axis=-1)
+    d = v / r[..., None]
+    gamma = np.degrees(np.arccos(np.clip(-d[..., 1], -1, 1)))
+    c = np.degrees(np.arctan2(-d[..., 2], d[..., 0])) % 360.0
+    expected = read_photometry(filename).intensity(gamma, c) * (-d[..., 1]) / r**2
+    np.testing.assert_allclose(lux["llvm_ad_rgb"], expected, rtol=RTOL_EXACT,
+                               atol=RTOL_EXACT * expected.max())
+    assert expected.max() > 10.0
 
 
 def test_shadows(variant_rgb):
