@@ -3,8 +3,9 @@
 
 :func:`run` measures cases and returns their :class:`~spectrace.validation.cases.Result`;
 :mod:`~spectrace.validation.cases` defines them, :mod:`~spectrace.validation.reference`
-holds the closed forms, :mod:`~spectrace.validation.measure` measures a scene at points and
-:mod:`~spectrace.validation.report` writes ``report.md``.
+holds the closed forms and :mod:`~spectrace.validation.report` writes ``report.md``; the
+points are measured as ``spectrace lux --points`` measures them
+(:mod:`spectrace.lighting.points`, :mod:`spectrace.lighting.luminance`).
 """
 
 from __future__ import annotations

@@ -131,11 +131,14 @@ def _load(name: str, settings: Settings, **params):
     return load_scene(folder() / f"{name}.xml", values)
 
 
-def _measure(result: Result, scene, points, normals, spp, settings, kind="illuminance"):
-    from spectrace.validation.measure import measure
+def _measure(result: Result, scene, points, normals, spp, settings, max_depth=1):
+    """The illuminance at the points as ``spectrace lux --points`` measures it
+    (:func:`spectrace.lighting.points.measure_points`: at the points themselves, no pixel
+    footprint; one sample a point where every light is exact)."""
+    from spectrace.lighting.points import measure_points
 
-    m = measure(scene, points, normals, spp=spp, seed=settings.seed, kind=kind)
-    result.measured, result.stderr, result.spp = m.value, m.stderr, spp
+    result.measured, result.stderr, result.spp = measure_points(
+        scene, points, normals, spp=spp, seed=settings.seed, max_depth=max_depth)
     return result
 
 
@@ -352,6 +355,7 @@ def flux_closed_room(settings: Settings) -> Result:
 # -- 5.5 clear glass ---------------------------------------------------------------------
 
 GLASS_IOR = 1.5
+GLASS_DEPTH = 12  # path length through the pane: its internal reflections fade as R^2
 
 
 def glass_transmittance(settings: Settings) -> Result:
@@ -367,7 +371,7 @@ def glass_transmittance(settings: Settings) -> Result:
 
     import spectrace
     from spectrace.scene import polarized_variant
-    from spectrace.validation.measure import measure
+    from spectrace.lighting.luminance import luminance_along
 
     angles = np.arange(0.0, 80.001, 20.0 if settings.quick else 10.0)
     t = np.radians(angles)
@@ -383,13 +387,14 @@ def glass_transmittance(settings: Settings) -> Result:
     spectrace.set_variant(polarized_variant(variant, True))
     try:
         scene = _load("glass_pane", settings, ior=GLASS_IOR, radiance=1.0)
-        through = measure(scene, below, -up, spp=spp, seed=settings.seed, kind="radiance")
-        past = measure(scene, above, -up, spp=spp, seed=settings.seed, kind="radiance")
+        through, through_se = luminance_along(scene, below, up, spp=spp, seed=settings.seed,
+                                              max_depth=GLASS_DEPTH)
+        past, past_se = luminance_along(scene, above, up, spp=spp, seed=settings.seed,
+                                        max_depth=GLASS_DEPTH)
     finally:
         spectrace.set_variant(variant)
-    result.measured = through.value / past.value
-    result.stderr = result.measured * np.hypot(through.stderr / through.value,
-                                               past.stderr / past.value)
+    result.measured = through / past
+    result.stderr = result.measured * np.hypot(through_se / through, past_se / past)
     result.spp = spp
     return result
 
@@ -452,7 +457,8 @@ def _reflection(settings, name, title, obstructed):
                   intensity=LIGHT_INTENSITY, light_height=LIGHT_HEIGHT,
                   plane_height=PLANE_HEIGHT, obstruction=OBSTRUCTION_HALF,
                   obstruction_height=OBSTRUCTION_HEIGHT if obstructed else -100.0)
-    return _measure(result, scene, points, normals, _n(settings, 1 << 15, 1 << 20), settings)
+    return _measure(result, scene, points, normals, _n(settings, 1 << 15, 1 << 20), settings,
+                    max_depth=2)
 
 
 def diffuse_reflection(settings: Settings) -> Result:
@@ -495,7 +501,8 @@ def integrating_sphere(settings: Settings) -> Result:
                                                                 RHO)
     scene = _load("integrating_sphere", settings, radius=SPHERE_RADIUS, rho=RHO,
                   flux=SPHERE_FLUX, lx=SPHERE_LIGHT[0], ly=SPHERE_LIGHT[1], lz=SPHERE_LIGHT[2])
-    return _measure(result, scene, points, normals, _n(settings, 256, 4096), settings)
+    return _measure(result, scene, points, normals, _n(settings, 256, 4096), settings,
+                    max_depth=-1)
 
 
 # -- 5.9 - 5.14 daylight ------------------------------------------------------------------
