@@ -12,6 +12,7 @@ import argparse
 import importlib
 import sys
 
+from spectrace.commands import EXIT_INTERRUPTED, EXIT_USAGE
 from spectrace.errors import UserError
 
 #: subcommand -> (module, one-line help)
@@ -34,8 +35,6 @@ COMMANDS: dict[str, tuple[str, str]] = {
               "render the Cartesian product of scene parameters on Dask"),
 }
 
-EXIT_USAGE = 2
-EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):

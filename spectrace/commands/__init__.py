@@ -8,6 +8,10 @@ Nothing else imports a command. This package's ``__init__`` holds what commands 
 import contextlib
 import sys
 
+#: Exit statuses of the command line: bad input, and a render stopped by Ctrl-C (128 + SIGINT).
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+
 
 @contextlib.contextmanager
 def progress_bar(total: int, unit: str, quiet: bool):

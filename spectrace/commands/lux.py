@@ -8,7 +8,7 @@ import re
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options, progress_bar
+from spectrace.commands import EXIT_INTERRUPTED, add_render_options, progress_bar
 from spectrace.errors import UserError
 from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
@@ -87,7 +87,7 @@ def run(args) -> int:
     print(f"{luxmap.summary()} ({pixels - luxmap.no_data} of {pixels} pixels with data)")
     if luxmap.interrupted:
         print(f"interrupted: saved {luxmap.spp} of {spp} spp", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     return 0
 
 

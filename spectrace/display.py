@@ -1,0 +1,450 @@
+"""The display pipeline: the picture a person looks at, made from the scene-referred EXR.
+
+The EXR a render writes is linear sRGB radiance and never changes; the PNG is made from it
+by four steps, each a function here, applied in this order by :func:`develop`:
+
+1. **exposure** (:func:`exposure_scale`): a factor on the linear values.
+
+   * ``exposure=EV``: 2^EV, photographic stops relative to the scene's own scale.
+   * ``exposure="auto"``: the log-average luminance mapped to middle grey (Reinhard,
+     Stark, Shirley & Ferwerda 2002, "Photographic tone reproduction for digital images",
+     SIGGRAPH, eq. 1): L_avg = exp(mean(ln Y)), scale = :data:`MIDDLE_GREY` / L_avg, over the
+     pixels with Y > 0 (a pixel that sees nothing is left out, instead of Reinhard's small
+     delta, which would depend on the scene's units).
+   * ``ev100=N``: an absolute camera (ISO 100). The saturation-based convention of ISO
+     12232:2006 (as in Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", section
+     5.1.2): the luminance that saturates the sensor is L_max = 78 / (S q) 2^EV100 cd/m^2
+     with S = 100 and q = 0.65, i.e. :data:`SATURATION_LUMINANCE` 2^EV100, and display value
+     = L_v / L_max. Luminance L_v in cd/m^2 is :data:`LUMINANCE_PER_Y` times the film's Y
+     (spectrace's photometric convention, ``spectrace help luminous``: K_m integral V
+     dlambda), so a room lit at about 500 lux (walls of reflectance 0.5: 80 cd/m^2) comes
+     out at display 0.26 (EV100 8) to 0.13 (EV100 9). With ``ev100``, ``exposure=EV`` is an
+     exposure compensation on top.
+
+2. **white balance** (:func:`white_balance_matrix`): a von Kries chromatic adaptation in
+   XYZ (:data:`CAT_METHODS`, Bradford by default) from the scene's white to D65, the white
+   of linear sRGB, as one 3 x 3 matrix on linear sRGB. ``"none"``; ``"D65"`` (the render's
+   own white: no change); ``"3000K"`` (the white of a Planckian radiator at that CCT, xy
+   from Kang et al. 2002, 1667-25000 K); ``"auto"`` (grey world: the image's mean colour is
+   taken as the white, Buchsbaum 1980).
+
+3. **view transform** (:data:`VIEWS`): ``standard`` (the values clipped to [0, 1], what
+   Mitsuba's PNG shows), ``aces`` (the ACES 2.0 SDR 100-nit output transform through
+   OpenColorIO's built-in ``studio-config``; the linear sRGB input is the config's ``Linear
+   Rec.709 (sRGB)``, which OCIO maps to ACES2065-1 with its Bradford matrix),
+   ``false-colour`` (luminance in cd/m^2 on a log scale with a labelled colour bar, as
+   Radiance's ``falsecolor``; exposure and white balance do not apply to it).
+
+4. **encoding** (:data:`DISPLAYS`): ``srgb`` or ``display-p3`` (linear sRGB converted to the
+   P3-D65 primaries; both with the sRGB transfer curve), quantised to 8 or 16 bits.
+
+Everything runs on numpy alone; OpenColorIO is imported for ``aces`` only, matplotlib's
+colour maps for ``false-colour`` only, so ``spectrace view`` of the default settings stays
+fast (``benchmarks/bench_view.py``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+from functools import cache, lru_cache
+
+import numpy as np
+
+from spectrace.errors import ParameterError
+from spectrace.spectral.srgb import LUMINANCE_WEIGHTS, encode_srgb
+
+__all__ = ["CAT_METHODS", "DISPLAYS", "DisplaySettings", "VIEWS", "Developed", "develop",
+           "exposure_scale", "photometric_scene", "white_balance_matrix"]
+
+#: Reinhard et al. (2002)'s key: the display value of the log-average luminance.
+MIDDLE_GREY = 0.18
+#: K_m (683 lm/W, CIE 018:2019) times integral V dlambda over 360-830 nm (106.857 nm): the
+#: luminance in cd/m^2 of a film Y of 1 (``spectrace help luminous``).
+LUMINANCE_PER_Y = 683.0 * 106.857
+#: 78 / (S q) with S = 100 (ISO 100) and q = 0.65 (ISO 12232:2006, saturation-based speed):
+#: cd/m^2 that saturate the sensor at EV100 = 0.
+SATURATION_LUMINANCE = 78.0 / (100.0 * 0.65)
+
+#: CIE xy of the whites and primaries (IEC 61966-2-1 for sRGB, SMPTE EG 432-1 for P3-D65).
+D65_XY = (0.3127, 0.3290)
+PRIMARIES = {
+    "srgb": ((0.64, 0.33), (0.30, 0.60), (0.15, 0.06)),
+    "display-p3": ((0.680, 0.320), (0.265, 0.690), (0.150, 0.060)),
+}
+#: The encodings of the PNG: display name -> the PNG's cICP chunk (ITU-T H.273 colour
+#: primaries 1 = BT.709 / 12 = P3-D65, transfer 13 = sRGB, matrix 0, full range).
+DISPLAYS: Mapping[str, bytes] = {"srgb": bytes((1, 13, 0, 1)),
+                                 "display-p3": bytes((12, 13, 0, 1))}
+PNG_BITS = (8, 16)
+
+#: XYZ -> cone response matrices of von Kries adaptation: Bradford (Lam 1985), CAT16 (Li et
+#: al. 2017, "Comprehensive color solutions: CAM16, CAT16, and CAM16-UCS").
+CAT_METHODS: Mapping[str, tuple] = {
+    "Bradford": ((0.8951, 0.2664, -0.1614), (-0.7502, 1.7135, 0.0367),
+                 (0.0389, -0.0685, 1.0296)),
+    "CAT16": ((0.401288, 0.650173, -0.051461), (-0.250268, 1.204414, 0.045854),
+              (-0.002079, 0.048952, 0.953127)),
+}
+#: The range of CCTs of Kang et al. (2002)'s Planckian locus approximation.
+CCT_RANGE = (1667.0, 25000.0)
+
+#: OpenColorIO's built-in config, its name of linear sRGB, and per display its display and
+#: the ACES 2.0 view.
+OCIO_CONFIG = "studio-config-latest"
+OCIO_LINEAR_SRGB = "Linear Rec.709 (sRGB)"
+OCIO_ACES_VIEWS = {"srgb": ("sRGB - Display", "ACES 2.0 - SDR 100 nits (Rec.709)"),
+                   "display-p3": ("Display P3 - Display", "ACES 2.0 - SDR 100 nits (P3 D65)")}
+
+#: False colour: the colour map, decades shown, and the legend's width (fraction of the
+#: image height, at least :data:`LEGEND_MIN_PX` pixels).
+FALSE_COLOUR_MAP = "viridis"
+FALSE_COLOUR_DECADES = 4
+FALSE_COLOUR_PERCENTILE = 99.5
+LEGEND_FRACTION = 0.22
+LEGEND_MIN_PX = 60
+
+
+@dataclass(frozen=True)
+class DisplaySettings:
+    """The options of the display pipeline (see the module notes); the defaults make
+    today's PNG: no exposure change, no white balance, the standard view, 8-bit sRGB."""
+
+    exposure: float | str | None = None  # stops, "auto", or None (0 stops)
+    ev100: float | None = None
+    white_balance: str = "none"
+    view: str = "standard"
+    display: str = "srgb"
+    png_bits: int = 8
+
+    def __post_init__(self):
+        check_settings(self)
+
+    @property
+    def is_default(self) -> bool:
+        """Whether these settings make the plain clipped sRGB PNG."""
+        return self == DisplaySettings()
+
+    def with_exposure(self, exposure) -> DisplaySettings:
+        return replace(self, exposure=exposure)
+
+
+def parse_exposure(value) -> float | str | None:
+    """``value`` as stops (a finite float), ``"auto"`` or None; ParameterError otherwise."""
+    if value is None or value == "auto":
+        return value
+    try:
+        ev = float(value)
+    except (TypeError, ValueError):
+        ev = math.nan
+    if not math.isfinite(ev):
+        raise ParameterError(f"exposure must be a finite number of stops or 'auto' (got "
+                             f"{value!r})")
+    return ev
+
+
+_CCT = re.compile(r"^\s*([-+0-9.eE]+)\s*[kK]\s*$")
+
+
+def parse_white(value: str):
+    """``"none"`` -> None, ``"auto"``, ``"D65"`` -> D65's xy, ``"<CCT>K"`` -> the Planckian xy;
+    ParameterError for anything else or a CCT outside :data:`CCT_RANGE`."""
+    text = str(value).strip()
+    if text.lower() == "none":
+        return None
+    if text.lower() == "auto":
+        return "auto"
+    if text.upper() == "D65":
+        return D65_XY
+    m = _CCT.match(text)
+    if m is None:
+        raise ParameterError(f"white_balance must be none, D65, auto or a colour temperature "
+                             f"such as 3000K (got {value!r})")
+    try:
+        cct = float(m.group(1))
+    except ValueError:
+        cct = math.nan
+    low, high = CCT_RANGE
+    if not low <= cct <= high:  # NaN fails too
+        raise ParameterError(f"white_balance {value!r}: the colour temperature must be "
+                             f"between {low:g} K and {high:g} K")
+    return planckian_xy(cct)
+
+
+def check_settings(settings: DisplaySettings) -> None:
+    """ParameterError naming the first setting that has a value it cannot take."""
+    parse_exposure(settings.exposure)
+    if settings.ev100 is not None and not math.isfinite(settings.ev100):
+        raise ParameterError(f"ev100 must be a finite number (got {settings.ev100!r})")
+    if settings.ev100 is not None and settings.exposure == "auto":
+        raise ParameterError("ev100 and exposure='auto' exclude each other")
+    parse_white(settings.white_balance)
+    if settings.view not in VIEWS:
+        raise ParameterError(f"unknown view {settings.view!r}; one of: {', '.join(VIEWS)}")
+    if settings.display not in DISPLAYS:
+        raise ParameterError(f"unknown display {settings.display!r}; one of: "
+                             f"{', '.join(DISPLAYS)}")
+    if settings.png_bits not in PNG_BITS:
+        raise ParameterError(f"png_bits must be 8 or 16 (got {settings.png_bits!r})")
+
+
+# -- colorimetry on numpy alone (checked against colour-science in tests/test_display.py) ----
+
+def xy_to_XYZ(xy) -> np.ndarray:
+    """XYZ of chromaticity ``xy`` with Y = 1."""
+    x, y = xy
+    return np.array([x / y, 1.0, (1.0 - x - y) / y])
+
+
+@cache
+def rgb_to_xyz_matrix(display: str) -> np.ndarray:
+    """The normalised primary matrix of a display's linear RGB (SMPTE RP 177-1993): the
+    columns are the primaries' XYZ scaled so that RGB (1, 1, 1) is D65 with Y = 1."""
+    P = np.stack([xy_to_XYZ(p) for p in PRIMARIES[display]], axis=1)
+    return P * np.linalg.solve(P, xy_to_XYZ(D65_XY))[None, :]
+
+
+def planckian_xy(cct: float) -> tuple[float, float]:
+    """CIE 1931 xy of a Planckian radiator, Kang, Moon, Hong, Lee, Cho & Kim (2002), "Design
+    of advanced color temperature control system for HDTV applications", J. Korean Phys.
+    Soc. 41(6), eqs. 5-6 (cubic fits, 1667-25000 K)."""
+    t = 1e3 / cct
+    if cct <= 4000.0:
+        x = -0.2661239 * t**3 - 0.2343589 * t**2 + 0.8776956 * t + 0.179910
+    else:
+        x = -3.0258469 * t**3 + 2.1070379 * t**2 + 0.2226347 * t + 0.240390
+    if cct <= 2222.0:
+        y = -1.1063814 * x**3 - 1.34811020 * x**2 + 2.18555832 * x - 0.20219683
+    elif cct <= 4000.0:
+        y = -0.9549476 * x**3 - 1.37418593 * x**2 + 2.09137015 * x - 0.16748867
+    else:
+        y = 3.0817580 * x**3 - 5.87338670 * x**2 + 3.75112997 * x - 0.37001483
+    return float(x), float(y)
+
+
+def adaptation_matrix(source_XYZ, target_XYZ, method: str = "Bradford") -> np.ndarray:
+    """The von Kries matrix M^-1 diag(M w_t / M w_s) M that takes XYZ seen under the white
+    ``source_XYZ`` to XYZ under ``target_XYZ`` (no degree of adaptation: complete)."""
+    if method not in CAT_METHODS:
+        raise ParameterError(f"unknown chromatic adaptation method {method!r}; one of: "
+                             f"{', '.join(CAT_METHODS)}")
+    M = np.asarray(CAT_METHODS[method], np.float64)
+    gain = (M @ np.asarray(target_XYZ, np.float64)) / (M @ np.asarray(source_XYZ, np.float64))
+    return np.linalg.solve(M, gain[:, None] * M)
+
+
+def luminance(rgb: np.ndarray) -> np.ndarray:
+    """Y of linear sRGB (Rec. 709 weights)."""
+    return rgb @ np.asarray(LUMINANCE_WEIGHTS, rgb.dtype)
+
+
+# -- the four steps ------------------------------------------------------------------------
+
+def exposure_scale(rgb: np.ndarray, settings: DisplaySettings) -> tuple[float, str]:
+    """The factor that the exposure step applies to the linear values, and a line that
+    says how it was chosen (what the command line prints)."""
+    exposure = parse_exposure(settings.exposure)
+    if settings.ev100 is not None:
+        ev = 0.0 if exposure is None else exposure
+        scale = 2.0**ev * LUMINANCE_PER_Y / (SATURATION_LUMINANCE * 2.0**settings.ev100)
+        extra = f" {ev:+.2f} EV" if ev else ""
+        return scale, (f"exposure: EV100 {settings.ev100:g}{extra} (x{scale:.4g}; "
+                       f"{SATURATION_LUMINANCE * 2.0**(settings.ev100 - ev):.4g} cd/m^2 "
+                       "saturate)")
+    if exposure == "auto":
+        Y = luminance(np.asarray(rgb, np.float64))
+        Y = Y[np.isfinite(Y) & (Y > 0)]
+        if Y.size == 0:
+            return 1.0, "exposure: auto, nothing lit: +0.00 EV"
+        log_average = float(np.exp(np.mean(np.log(Y))))
+        scale = MIDDLE_GREY / log_average
+        ev100 = math.log2(log_average * LUMINANCE_PER_Y / (MIDDLE_GREY * SATURATION_LUMINANCE))
+        return scale, (f"exposure: auto {math.log2(scale):+.2f} EV (log-average Y "
+                       f"{log_average:.4g} to {MIDDLE_GREY}; EV100 {ev100:.2f} at the scene's "
+                       "photometric scale)")
+    ev = 0.0 if exposure is None else exposure
+    return 2.0**ev, f"exposure: {ev:+.2f} EV (x{2.0**ev:.4g})"
+
+
+def white_balance_matrix(rgb: np.ndarray, white_balance: str,
+                         method: str = "Bradford") -> np.ndarray | None:
+    """The 3 x 3 matrix on linear sRGB that adapts the scene's white to D65 (see the module
+    notes), or None for ``"none"``."""
+    white = parse_white(white_balance)
+    if white is None:
+        return None
+    to_xyz = rgb_to_xyz_matrix("srgb")
+    if white == "auto":
+        mean = np.asarray(rgb, np.float64).reshape(-1, 3)
+        mean = mean[np.all(np.isfinite(mean), axis=1)].mean(axis=0)
+        source = to_xyz @ mean
+        if not source[1] > 0 or np.any(source <= 0):
+            return None  # a black (or impossible) mean: nothing to balance
+        source = source / source[1]
+    else:
+        source = xy_to_XYZ(white)
+    cat = adaptation_matrix(source, xy_to_XYZ(D65_XY), method)
+    return np.linalg.solve(to_xyz, cat @ to_xyz)
+
+
+def view_standard(rgb: np.ndarray, display: str) -> np.ndarray:
+    """Linear sRGB clipped to [0, 1] in the display's primaries, sRGB-encoded."""
+    return encode_srgb(np.clip(to_display_primaries(rgb, display), 0.0, 1.0))
+
+
+def to_display_primaries(rgb: np.ndarray, display: str) -> np.ndarray:
+    """Linear sRGB expressed in the primaries of ``display`` (same D65 white)."""
+    if display == "srgb":
+        return rgb
+    M = np.linalg.solve(rgb_to_xyz_matrix(display), rgb_to_xyz_matrix("srgb"))
+    return rgb @ M.T.astype(rgb.dtype)
+
+
+@lru_cache(maxsize=4)
+def _ocio_processor(display: str):
+    import PyOpenColorIO as ocio
+
+    config = ocio.Config.CreateFromBuiltinConfig(OCIO_CONFIG)
+    device, view = OCIO_ACES_VIEWS[display]
+    return config.getProcessor(OCIO_LINEAR_SRGB, device, view,
+                               ocio.TRANSFORM_DIR_FORWARD).getDefaultCPUProcessor()
+
+
+def view_aces(rgb: np.ndarray, display: str) -> np.ndarray:
+    """The ACES 2.0 SDR output transform (OpenColorIO), display-encoded in [0, 1]."""
+    out = np.ascontiguousarray(rgb, dtype=np.float32).copy()
+    _ocio_processor(display).applyRGB(out)
+    return np.clip(out, 0.0, 1.0)
+
+
+def false_colour_range(L: np.ndarray) -> tuple[float, float]:
+    """(lowest, highest) luminance of the scale: the highest a power of ten at or above the
+    :data:`FALSE_COLOUR_PERCENTILE` th percentile, :data:`FALSE_COLOUR_DECADES` below it."""
+    lit = L[np.isfinite(L) & (L > 0)]
+    top = float(np.percentile(lit, FALSE_COLOUR_PERCENTILE)) if lit.size else 1.0
+    high = 10.0 ** math.ceil(math.log10(top))
+    return high / 10.0**FALSE_COLOUR_DECADES, high
+
+
+def view_false_colour(rgb: np.ndarray, display: str) -> np.ndarray:
+    """Luminance L_v = :data:`LUMINANCE_PER_Y` Y in cd/m^2 on a log scale of
+    :data:`FALSE_COLOUR_DECADES` decades (:func:`false_colour_range`), with a colour bar
+    labelled at each decade on the right; display-encoded."""
+    from matplotlib import colormaps
+
+    L = luminance(np.asarray(rgb, np.float64)) * LUMINANCE_PER_Y
+    low, high = false_colour_range(L)
+    t = (np.log10(np.maximum(np.nan_to_num(L, nan=0.0), low)) - math.log10(low)) \
+        / FALSE_COLOUR_DECADES
+    cmap = colormaps[FALSE_COLOUR_MAP]
+    image = cmap(np.clip(t, 0.0, 1.0))[..., :3]
+    out = np.concatenate([image, _legend(image.shape[0], cmap, low)], axis=1)
+    if display != "srgb":  # the map's colours are sRGB: the same colours on the display
+        from spectrace.spectral.srgb import decode_srgb
+
+        out = encode_srgb(np.clip(to_display_primaries(decode_srgb(out), display), 0, 1))
+    return out
+
+
+def _legend(height: int, cmap, low: float) -> np.ndarray:
+    """The colour bar (H, w, 3) in [0, 1]: the map from bottom (low) to top, a label per
+    decade, and 'cd/m2' at the top."""
+    from PIL import Image, ImageDraw
+
+    width = max(LEGEND_MIN_PX, int(LEGEND_FRACTION * height))
+    margin = max(6, height // 20)
+    bar = max(6, width // 5)
+    ys = np.arange(height)
+    t = 1.0 - (ys - margin) / max(1, height - 2 * margin - 1)
+    strip = np.ones((height, width, 3))
+    inside = (ys >= margin) & (ys < height - margin)
+    strip[inside, 2:2 + bar] = cmap(t[inside])[:, None, :3]
+    text = Image.new("L", (width, height), 255)
+    draw = ImageDraw.Draw(text)
+    for k in range(FALSE_COLOUR_DECADES + 1):
+        y = margin + (1.0 - k / FALSE_COLOUR_DECADES) * (height - 2 * margin - 1)
+        draw.line([(2 + bar, y), (5 + bar, y)], fill=0)
+        draw.text((7 + bar, y), f"{low * 10.0**k:g}", fill=0, anchor="lm")
+    draw.text((2, 1), "cd/m2", fill=0, anchor="lt")
+    shade = np.asarray(text, np.float64)[..., None] / 255.0
+    return np.minimum(strip, shade)
+
+
+#: View name -> function(linear sRGB after exposure and white balance, display) -> encoded
+#: display values in [0, 1].
+VIEWS: Mapping[str, Callable[[np.ndarray, str], np.ndarray]] = {
+    "standard": view_standard,
+    "aces": view_aces,
+    "false-colour": view_false_colour,
+}
+#: Views that show the scene's absolute luminance: exposure and white balance do not apply.
+ABSOLUTE_VIEWS = ("false-colour",)
+
+
+@dataclass(frozen=True)
+class Developed:
+    """A developed picture: integer codes (H, W', 3) for the PNG, the PNG's cICP chunk, and
+    what was done (``exposure``: the factor, ``notes``: lines to print)."""
+
+    codes: np.ndarray
+    cicp: bytes
+    exposure: float
+    notes: tuple[str, ...]
+
+
+def develop(rgb, settings: DisplaySettings = DisplaySettings()) -> Developed:
+    """Linear sRGB (H, W, 3) (or a mono image: :func:`spectrace.images.as_rgb`) -> the PNG's
+    codes through exposure, white balance, view and encoding. The input is not changed.
+    NaN and infinite values show as 0 (black)."""
+    from spectrace.images import as_rgb
+
+    rgb = np.nan_to_num(np.asarray(as_rgb(rgb), np.float32), nan=0.0, posinf=0.0,
+                        neginf=0.0)
+    check_settings(settings)
+    notes = []
+    scale = 1.0
+    if settings.view not in ABSOLUTE_VIEWS:
+        scale, line = exposure_scale(rgb, settings)
+        notes.append(line)
+        M = white_balance_matrix(rgb, settings.white_balance)
+        if M is not None:
+            rgb = rgb @ (scale * M).T.astype(np.float32)
+            notes.append(f"white balance: {settings.white_balance} -> D65 (Bradford)")
+        elif scale != 1.0:
+            rgb = rgb * np.float32(scale)
+    else:
+        notes.append("false colour: luminance in cd/m^2 at the scene's scale (no exposure)")
+    encoded = VIEWS[settings.view](rgb, settings.display)
+    top = 2**settings.png_bits - 1
+    dtype = np.uint8 if settings.png_bits == 8 else np.uint16
+    codes = np.round(np.clip(np.nan_to_num(encoded, nan=0.0), 0.0, 1.0) * top).astype(dtype)
+    return Developed(codes, DISPLAYS[settings.display], scale, tuple(notes))
+
+
+def write_display_png(path, rgb, settings: DisplaySettings = DisplaySettings()) -> Developed:
+    """:func:`develop` ``rgb`` and write the PNG (atomic); returns what was developed."""
+    from spectrace.images import write_png_codes
+
+    developed = develop(rgb, settings)
+    write_png_codes(path, developed.codes, cicp=developed.cicp)
+    return developed
+
+
+#: Emitter types and parameters that make a scene photometric (absolute luminous units).
+PHOTOMETRIC_EMITTERS = ("ieslight",)
+PHOTOMETRIC_PARAMETERS = ("luminous_flux", "luminous_intensity")
+
+
+def photometric_scene(root) -> bool:
+    """Whether a scene's XML tree (``xml.etree`` element) has a light in luminous units: an
+    ``ieslight``, or an emitter with a ``luminous_*`` parameter. Such a scene's PNG is
+    exposed automatically by default (its values are cd/m^2 / :data:`LUMINANCE_PER_Y`,
+    far from [0, 1])."""
+    for emitter in root.iter("emitter"):
+        if emitter.get("type") in PHOTOMETRIC_EMITTERS:
+            return True
+        if any(child.get("name") in PHOTOMETRIC_PARAMETERS for child in emitter.iter()):
+            return True
+    return False
