@@ -31,6 +31,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "help": ("spectrace.commands.help", "a plugin's reference page (help phong), or the list"),
     "lux": ("spectrace.commands.lux",
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
+    "view": ("spectrace.commands.view",
+             "develop an EXR into a PNG: exposure, white balance, view transform"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
 }

@@ -46,18 +46,28 @@ fast (``benchmarks/bench_view.py``).
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import cache, lru_cache
 
 import numpy as np
 
+from spectrace.display_options import (
+    D65_XY,
+    DISPLAYS,
+    PRIMARIES,
+    VIEW_NAMES,
+    DisplaySettings,
+    check_settings,
+    parse_exposure,
+    parse_white,
+    photometric_scene,
+)
 from spectrace.errors import ParameterError
 from spectrace.spectral.srgb import LUMINANCE_WEIGHTS, encode_srgb
 
-__all__ = ["CAT_METHODS", "DISPLAYS", "DisplaySettings", "VIEWS", "Developed", "develop",
-           "exposure_scale", "photometric_scene", "white_balance_matrix"]
+__all__ = ["CAT_METHODS", "DISPLAYS", "Developed", "DisplaySettings", "VIEWS", "develop",
+           "exposure_scale", "photometric_scene", "white_balance_matrix", "write_display_png"]
 
 #: Reinhard et al. (2002)'s key: the display value of the log-average luminance.
 MIDDLE_GREY = 0.18
@@ -68,18 +78,6 @@ LUMINANCE_PER_Y = 683.0 * 106.857
 #: cd/m^2 that saturate the sensor at EV100 = 0.
 SATURATION_LUMINANCE = 78.0 / (100.0 * 0.65)
 
-#: CIE xy of the whites and primaries (IEC 61966-2-1 for sRGB, SMPTE EG 432-1 for P3-D65).
-D65_XY = (0.3127, 0.3290)
-PRIMARIES = {
-    "srgb": ((0.64, 0.33), (0.30, 0.60), (0.15, 0.06)),
-    "display-p3": ((0.680, 0.320), (0.265, 0.690), (0.150, 0.060)),
-}
-#: The encodings of the PNG: display name -> the PNG's cICP chunk (ITU-T H.273 colour
-#: primaries 1 = BT.709 / 12 = P3-D65, transfer 13 = sRGB, matrix 0, full range).
-DISPLAYS: Mapping[str, bytes] = {"srgb": bytes((1, 13, 0, 1)),
-                                 "display-p3": bytes((12, 13, 0, 1))}
-PNG_BITS = (8, 16)
-
 #: XYZ -> cone response matrices of von Kries adaptation: Bradford (Lam 1985), CAT16 (Li et
 #: al. 2017, "Comprehensive color solutions: CAM16, CAT16, and CAM16-UCS").
 CAT_METHODS: Mapping[str, tuple] = {
@@ -88,9 +86,6 @@ CAT_METHODS: Mapping[str, tuple] = {
     "CAT16": ((0.401288, 0.650173, -0.051461), (-0.250268, 1.204414, 0.045854),
               (-0.002079, 0.048952, 0.953127)),
 }
-#: The range of CCTs of Kang et al. (2002)'s Planckian locus approximation.
-CCT_RANGE = (1667.0, 25000.0)
-
 #: OpenColorIO's built-in config, its name of linear sRGB, and per display its display and
 #: the ACES 2.0 view.
 OCIO_CONFIG = "studio-config-latest"
@@ -107,89 +102,6 @@ LEGEND_FRACTION = 0.22
 LEGEND_MIN_PX = 60
 
 
-@dataclass(frozen=True)
-class DisplaySettings:
-    """The options of the display pipeline (see the module notes); the defaults make
-    today's PNG: no exposure change, no white balance, the standard view, 8-bit sRGB."""
-
-    exposure: float | str | None = None  # stops, "auto", or None (0 stops)
-    ev100: float | None = None
-    white_balance: str = "none"
-    view: str = "standard"
-    display: str = "srgb"
-    png_bits: int = 8
-
-    def __post_init__(self):
-        check_settings(self)
-
-    @property
-    def is_default(self) -> bool:
-        """Whether these settings make the plain clipped sRGB PNG."""
-        return self == DisplaySettings()
-
-    def with_exposure(self, exposure) -> DisplaySettings:
-        return replace(self, exposure=exposure)
-
-
-def parse_exposure(value) -> float | str | None:
-    """``value`` as stops (a finite float), ``"auto"`` or None; ParameterError otherwise."""
-    if value is None or value == "auto":
-        return value
-    try:
-        ev = float(value)
-    except (TypeError, ValueError):
-        ev = math.nan
-    if not math.isfinite(ev):
-        raise ParameterError(f"exposure must be a finite number of stops or 'auto' (got "
-                             f"{value!r})")
-    return ev
-
-
-_CCT = re.compile(r"^\s*([-+0-9.eE]+)\s*[kK]\s*$")
-
-
-def parse_white(value: str):
-    """``"none"`` -> None, ``"auto"``, ``"D65"`` -> D65's xy, ``"<CCT>K"`` -> the Planckian xy;
-    ParameterError for anything else or a CCT outside :data:`CCT_RANGE`."""
-    text = str(value).strip()
-    if text.lower() == "none":
-        return None
-    if text.lower() == "auto":
-        return "auto"
-    if text.upper() == "D65":
-        return D65_XY
-    m = _CCT.match(text)
-    if m is None:
-        raise ParameterError(f"white_balance must be none, D65, auto or a colour temperature "
-                             f"such as 3000K (got {value!r})")
-    try:
-        cct = float(m.group(1))
-    except ValueError:
-        cct = math.nan
-    low, high = CCT_RANGE
-    if not low <= cct <= high:  # NaN fails too
-        raise ParameterError(f"white_balance {value!r}: the colour temperature must be "
-                             f"between {low:g} K and {high:g} K")
-    return planckian_xy(cct)
-
-
-def check_settings(settings: DisplaySettings) -> None:
-    """ParameterError naming the first setting that has a value it cannot take."""
-    parse_exposure(settings.exposure)
-    if settings.ev100 is not None and not math.isfinite(settings.ev100):
-        raise ParameterError(f"ev100 must be a finite number (got {settings.ev100!r})")
-    if settings.ev100 is not None and settings.exposure == "auto":
-        raise ParameterError("ev100 and exposure='auto' exclude each other")
-    parse_white(settings.white_balance)
-    if settings.view not in VIEWS:
-        raise ParameterError(f"unknown view {settings.view!r}; one of: {', '.join(VIEWS)}")
-    if settings.display not in DISPLAYS:
-        raise ParameterError(f"unknown display {settings.display!r}; one of: "
-                             f"{', '.join(DISPLAYS)}")
-    if settings.png_bits not in PNG_BITS:
-        raise ParameterError(f"png_bits must be 8 or 16 (got {settings.png_bits!r})")
-
-
 # -- colorimetry on numpy alone (checked against colour-science in tests/test_display.py) ----
 
 def xy_to_XYZ(xy) -> np.ndarray:
@@ -204,24 +116,6 @@ def rgb_to_xyz_matrix(display: str) -> np.ndarray:
     columns are the primaries' XYZ scaled so that RGB (1, 1, 1) is D65 with Y = 1."""
     P = np.stack([xy_to_XYZ(p) for p in PRIMARIES[display]], axis=1)
     return P * np.linalg.solve(P, xy_to_XYZ(D65_XY))[None, :]
-
-
-def planckian_xy(cct: float) -> tuple[float, float]:
-    """CIE 1931 xy of a Planckian radiator, Kang, Moon, Hong, Lee, Cho & Kim (2002), "Design
-    of advanced color temperature control system for HDTV applications", J. Korean Phys.
-    Soc. 41(6), eqs. 5-6 (cubic fits, 1667-25000 K)."""
-    t = 1e3 / cct
-    if cct <= 4000.0:
-        x = -0.2661239 * t**3 - 0.2343589 * t**2 + 0.8776956 * t + 0.179910
-    else:
-        x = -3.0258469 * t**3 + 2.1070379 * t**2 + 0.2226347 * t + 0.240390
-    if cct <= 2222.0:
-        y = -1.1063814 * x**3 - 1.34811020 * x**2 + 2.18555832 * x - 0.20219683
-    elif cct <= 4000.0:
-        y = -0.9549476 * x**3 - 1.37418593 * x**2 + 2.09137015 * x - 0.16748867
-    else:
-        y = 3.0817580 * x**3 - 5.87338670 * x**2 + 3.75112997 * x - 0.37001483
-    return float(x), float(y)
 
 
 def adaptation_matrix(source_XYZ, target_XYZ, method: str = "Bradford") -> np.ndarray:
@@ -354,31 +248,35 @@ def _legend(height: int, cmap, low: float) -> np.ndarray:
     from PIL import Image, ImageDraw
 
     width = max(LEGEND_MIN_PX, int(LEGEND_FRACTION * height))
-    margin = max(6, height // 20)
-    bar = max(6, width // 5)
+    top, bottom = 16, 7  # room for the unit above the bar and half a label below it
+    bar = max(6, width // 6)
     ys = np.arange(height)
-    t = 1.0 - (ys - margin) / max(1, height - 2 * margin - 1)
+    span = max(1, height - top - bottom - 1)
+    t = 1.0 - (ys - top) / span
     strip = np.ones((height, width, 3))
-    inside = (ys >= margin) & (ys < height - margin)
+    inside = (ys >= top) & (ys <= height - bottom - 1)
     strip[inside, 2:2 + bar] = cmap(t[inside])[:, None, :3]
     text = Image.new("L", (width, height), 255)
     draw = ImageDraw.Draw(text)
     for k in range(FALSE_COLOUR_DECADES + 1):
-        y = margin + (1.0 - k / FALSE_COLOUR_DECADES) * (height - 2 * margin - 1)
+        y = top + (1.0 - k / FALSE_COLOUR_DECADES) * span
         draw.line([(2 + bar, y), (5 + bar, y)], fill=0)
-        draw.text((7 + bar, y), f"{low * 10.0**k:g}", fill=0, anchor="lm")
-    draw.text((2, 1), "cd/m2", fill=0, anchor="lt")
+        draw.text((7 + bar, y), _decade_label(low * 10.0**k), fill=0, anchor="lm")
+    draw.text((2, 2), "cd/m2", fill=0, anchor="lt")
     shade = np.asarray(text, np.float64)[..., None] / 255.0
     return np.minimum(strip, shade)
 
 
+def _decade_label(value: float) -> str:
+    """0.01, 0.1, 1, 10, 100, 1000, then 1e4, 1e5, ..."""
+    exponent = round(math.log10(value))
+    return f"{value:g}" if -2 <= exponent <= 3 else f"1e{exponent}"
+
+
 #: View name -> function(linear sRGB after exposure and white balance, display) -> encoded
 #: display values in [0, 1].
-VIEWS: Mapping[str, Callable[[np.ndarray, str], np.ndarray]] = {
-    "standard": view_standard,
-    "aces": view_aces,
-    "false-colour": view_false_colour,
-}
+VIEWS: Mapping[str, Callable[[np.ndarray, str], np.ndarray]] = dict(zip(
+    VIEW_NAMES, (view_standard, view_aces, view_false_colour), strict=True))
 #: Views that show the scene's absolute luminance: exposure and white balance do not apply.
 ABSOLUTE_VIEWS = ("false-colour",)
 
@@ -394,7 +292,7 @@ class Developed:
     notes: tuple[str, ...]
 
 
-def develop(rgb, settings: DisplaySettings = DisplaySettings()) -> Developed:
+def develop(rgb, settings: DisplaySettings | None = None) -> Developed:
     """Linear sRGB (H, W, 3) (or a mono image: :func:`spectrace.images.as_rgb`) -> the PNG's
     codes through exposure, white balance, view and encoding. The input is not changed.
     NaN and infinite values show as 0 (black)."""
@@ -402,6 +300,7 @@ def develop(rgb, settings: DisplaySettings = DisplaySettings()) -> Developed:
 
     rgb = np.nan_to_num(np.asarray(as_rgb(rgb), np.float32), nan=0.0, posinf=0.0,
                         neginf=0.0)
+    settings = DisplaySettings() if settings is None else settings
     check_settings(settings)
     notes = []
     scale = 1.0
@@ -423,28 +322,10 @@ def develop(rgb, settings: DisplaySettings = DisplaySettings()) -> Developed:
     return Developed(codes, DISPLAYS[settings.display], scale, tuple(notes))
 
 
-def write_display_png(path, rgb, settings: DisplaySettings = DisplaySettings()) -> Developed:
+def write_display_png(path, rgb, settings: DisplaySettings | None = None) -> Developed:
     """:func:`develop` ``rgb`` and write the PNG (atomic); returns what was developed."""
     from spectrace.images import write_png_codes
 
     developed = develop(rgb, settings)
     write_png_codes(path, developed.codes, cicp=developed.cicp)
     return developed
-
-
-#: Emitter types and parameters that make a scene photometric (absolute luminous units).
-PHOTOMETRIC_EMITTERS = ("ieslight",)
-PHOTOMETRIC_PARAMETERS = ("luminous_flux", "luminous_intensity")
-
-
-def photometric_scene(root) -> bool:
-    """Whether a scene's XML tree (``xml.etree`` element) has a light in luminous units: an
-    ``ieslight``, or an emitter with a ``luminous_*`` parameter. Such a scene's PNG is
-    exposed automatically by default (its values are cd/m^2 / :data:`LUMINANCE_PER_Y`,
-    far from [0, 1])."""
-    for emitter in root.iter("emitter"):
-        if emitter.get("type") in PHOTOMETRIC_EMITTERS:
-            return True
-        if any(child.get("name") in PHOTOMETRIC_PARAMETERS for child in emitter.iter()):
-            return True
-    return False

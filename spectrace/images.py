@@ -209,6 +209,25 @@ def read_exr(path) -> tuple[np.ndarray, dict]:
     return rgb, header
 
 
+def read_linear_srgb(path):
+    """Any EXR spectrace or Mitsuba writes as (H, W, 3) float32 linear sRGB: R, G, B
+    channels (also a spectral EXR's preview), a one-channel ``Y`` as grey, or the spectra
+    of a Fichet 2021 spectral EXR without preview (through
+    :func:`spectrace.spectral.spectral_image_to_linear_srgb`)."""
+    import numpy as np
+
+    channels, _ = read_exr_channels(path)
+    if all(c in channels for c in "RGB") or "Y" in channels:
+        return read_exr(path)[0]
+    from spectrace.spectral.exr import read_spectral_exr
+    from spectrace.spectral.image import spectral_image_to_linear_srgb
+
+    image, wavelengths, header = read_spectral_exr(path, with_header=True)
+    illuminant = "D65" if not any(k.startswith("S0.") for k in channels) else None
+    return np.asarray(spectral_image_to_linear_srgb(image, wavelengths, illuminant),
+                      np.float32)
+
+
 def encode_srgb_8bit(rgb):
     """Linear sRGB -> 8-bit sRGB-encoded (IEC 61966-2-1), clipped to [0, 1], NaN -> 0; a
     one-channel (mono) image as grey. A numpy array gives numpy uint8, a Dr.Jit tensor a

@@ -14,8 +14,14 @@ import os
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options, progress_bar
-from spectrace.errors import UserError
+from spectrace.commands import (
+    EXIT_INTERRUPTED,
+    add_display_options,
+    add_render_options,
+    display_settings,
+    progress_bar,
+)
+from spectrace.errors import UsageError, UserError
 from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
 FILMS = ("rgb", "spectral")
@@ -27,8 +33,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "process (plugins registered once, kernels reused)")
     parser.add_argument("-o", "--output", help="output EXR (default: out/<scene>.exr), or a "
                         "folder (FOLDER/) for <scene>.exr there, which several scenes need; "
-                        "an sRGB PNG is written beside each EXR")
+                        "an sRGB PNG is written beside each EXR (-o OUT.png: the PNG, and the "
+                        "EXR beside it)")
     add_render_options(parser)
+    parser.add_argument("-t", "--threads", type=int, metavar="N",
+                        help="render with N threads (default: one per core)")
+    parser.add_argument("--noise", type=float, metavar="TARGET",
+                        help="render until the estimated relative error of the image (from "
+                        "the spread between passes) is below TARGET, e.g. 0.01; --spp is then "
+                        "the most it renders")
+    parser.add_argument("--time", type=float, metavar="SECONDS",
+                        help="stop at the first pass that ends after SECONDS; --spp is then "
+                        "the most it renders")
     parser.add_argument("--film", choices=FILMS, default="rgb",
                         help="rgb: the scene's film; spectral: N bands, also OUT.spectral.exr")
     parser.add_argument("--bands", type=int, default=None,
@@ -41,6 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="render the passes on the Dask cluster of this scheduler "
                        "(tcp://host:8786); workers read the scene at the same path")
+    add_display_options(parser)
 
 
 def _is_folder(output: str) -> bool:
@@ -68,9 +85,13 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
 def output_paths(scene: Path, output: str | None, film: str) -> dict[str, Path]:
     """The files a render writes: EXR, PNG beside it, and the spectral EXR for that film."""
     exr = Path(output) if output else Path("out") / f"{scene.stem}.exr"
+    png = exr.with_suffix(".png")
+    if exr.suffix.lower() == ".png":
+        exr, png = exr.with_suffix(".exr"), exr
     if exr.suffix.lower() != ".exr":
-        raise UserError(f"output {exr}: must end in .exr (the PNG is written beside it)")
-    paths = {"exr": exr, "png": exr.with_suffix(".png")}
+        raise UserError(f"output {exr}: must end in .exr or .png (the other is written "
+                        "beside it)")
+    paths = {"exr": exr, "png": png}
     if film == "spectral":
         paths["spectral"] = exr.with_suffix(".spectral.exr")
     return paths
@@ -95,6 +116,8 @@ def run(args) -> int:
         raise UserError("--bands applies only with --film spectral")
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers must be a positive integer (got {args.workers})")
+    _check_until_clean(args)
+    display_settings(args)  # a bad display option costs no render
     all_paths = scene_outputs(scene_paths, args.output, args.film)
 
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
@@ -104,6 +127,10 @@ def run(args) -> int:
     import spectrace
 
     spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
+    if args.threads is not None:
+        import drjit as dr
+
+        dr.set_thread_count(args.threads)  # spectrace.images writes with 2 or more
     loaded = []  # every scene loads before anything renders: a bad one costs no output
     for scene_path, root in zip(scene_paths, roots, strict=True):
         wavelengths = None
@@ -114,7 +141,7 @@ def run(args) -> int:
             scene = load_scene(scene_path, params, root=root)
         else:
             scene = load_scene(scene_path, params)
-        loaded.append((scene, wavelengths))
+        loaded.append((scene, wavelengths, _photometric(root)))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         client = None
@@ -126,9 +153,11 @@ def run(args) -> int:
         for paths in all_paths:  # before rendering: a bad output path costs no render time
             for p in paths.values():
                 check_writable(p)
-        for scene_path, (scene, wavelengths), paths in zip(scene_paths, loaded, all_paths,
-                                                            strict=True):
-            code = _render_one(scene_path, scene, wavelengths, paths, params, args, client)
+        for scene_path, (scene, wavelengths, photometric), paths in zip(
+                scene_paths, loaded, all_paths, strict=True):
+            settings = display_settings(args, photometric)
+            code = _render_one(scene_path, scene, wavelengths, paths, params, args, client,
+                               settings)
             if code:
                 return code
     if len(scene_paths) > 1:
@@ -136,28 +165,66 @@ def run(args) -> int:
     return 0
 
 
-def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> int:
-    spp = args.spp or scene_spp(scene)
+def _check_until_clean(args) -> None:
+    """--threads, --noise and --time: positive (UsageError naming the flag)."""
+    import math
+
+    if args.threads is not None and args.threads < 1:
+        raise UsageError(f"-t/--threads must be a positive integer (got {args.threads})")
+    if args.noise is not None and not 0 < args.noise < 1:  # NaN fails too
+        raise UsageError(f"--noise must be a relative error between 0 and 1, exclusive "
+                         f"(got {args.noise})")
+    if args.time is not None and not (0 < args.time and math.isfinite(args.time)):
+        raise UsageError(f"--time must be a positive number of seconds (got {args.time})")
+    if (args.noise is not None or args.time is not None) and (args.workers or args.scheduler):
+        raise UsageError("--noise and --time work with the local pass loop only (not with "
+                         "--workers or --scheduler)")
+
+
+def _photometric(root) -> bool:
+    from spectrace.display_options import photometric_scene
+
+    return photometric_scene(root)
+
+
+def _render_one(scene_path, scene, wavelengths, paths, params, args, client, settings) -> int:
+    until_clean = args.noise is not None or args.time is not None
+    if until_clean:
+        from spectrace.passes import UNTIL_CLEAN_MAX_SPP
+
+        spp = args.spp or UNTIL_CLEAN_MAX_SPP
+    else:
+        spp = args.spp or scene_spp(scene)
     where = ""
     if client is not None:
         where = f", {len(client.scheduler_info(n_workers=-1)['workers'])} workers"
-    print(f"rendering {scene_path.name}: {spp} spp, {args.variant}, seed {args.seed}{where}",
+    goal = f"{spp} spp"
+    if until_clean:
+        stops = [f"error < {args.noise:g}"] if args.noise is not None else []
+        stops += [f"{args.time:g} s"] if args.time is not None else []
+        goal = f"until {' or '.join(stops)} (at most {spp} spp)"
+    print(f"rendering {scene_path.name}: {goal}, {args.variant}, seed {args.seed}{where}",
           file=sys.stderr, flush=True)
     result = _render_with_progress(scene, spp, args, client, scene_path, params)
     if result.spp == 0:
         print("interrupted before the first pass finished: nothing written", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     if result.nonfinite:
         print(f"warning: {result.nonfinite} pixel values were NaN or infinite and were set to 0",
               file=sys.stderr)
-    _write_outputs(result, paths, wavelengths, args, scene_path)
+    notes = _write_outputs(result, paths, wavelengths, args, scene_path, settings)
     rate = result.samples_per_second
     passes = f"{result.passes} pass{'' if result.passes == 1 else 'es'}"
     print(f"{scene_path.name}: {result.spp} spp in {passes}, {result.seconds:.2f} s, "
           f"{rate / 1e6:.2f} M samples/s -> {paths['exr']}", flush=True)
+    if getattr(result, "noise", None) is not None:
+        estimate = f"{result.noise:.4f}" if result.noise < float("inf") else "unknown (1 pass)"
+        print(f"estimated relative error {estimate}, stopped by {result.stopped_by}")
+    for note in notes:
+        print(note)
     if result.interrupted:
         print(f"interrupted: saved {result.spp} of {spp} spp", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     return 0
 
 
@@ -165,6 +232,12 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
     from spectrace.passes import render_passes
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
+        if args.noise is not None or args.time is not None:
+            from spectrace.passes import render_passes
+
+            return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
+                                 on_pass=on_pass, noise=args.noise, time_limit=args.time,
+                                 on_noise=lambda e: on_pass.describe(f"error {e:.4f}"))
         if client is not None:
             from spectrace.cluster import SceneSpec
             from spectrace.passes import render_passes_distributed, scene_spp_per_pass
@@ -178,7 +251,9 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
                              on_pass=on_pass)
 
 
-def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
+def _write_outputs(result, paths, wavelengths, args, scene_path, settings) -> tuple[str, ...]:
+    """Write the EXR (and the spectral EXR), then the PNG through the display pipeline;
+    returns the pipeline's notes (the exposure used)."""
     from spectrace.images import write_exr, write_png
 
     header = {
@@ -188,6 +263,8 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         "scene": os.path.abspath(scene_path),
         "film": args.film,
     }
+    if getattr(result, "noise", None) is not None and result.noise < float("inf"):
+        header["noise"] = float(result.noise)  # the estimated relative error
     rgb = result.pixels  # a Dr.Jit tensor from the local loop: written by mi.Bitmap
     if wavelengths is not None:
         from spectrace.spectral import write_spectral_exr
@@ -198,4 +275,11 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
                            attributes=header)
     write_exr(paths["exr"], rgb, header)
-    write_png(paths["png"], rgb)
+    if settings.is_default:  # the plain PNG (from a tensor: mi.Bitmap, no numpy)
+        write_png(paths["png"], rgb)
+        return ()
+    import numpy as np
+
+    from spectrace.display import write_display_png
+
+    return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings).notes
