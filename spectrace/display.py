@@ -62,6 +62,7 @@ from spectrace.display_options import (
     parse_exposure,
     parse_white,
     photometric_scene,
+    planckian_xy,
 )
 from spectrace.errors import ParameterError
 from spectrace.spectral.srgb import LUMINANCE_WEIGHTS, encode_srgb
@@ -110,10 +111,18 @@ def xy_to_XYZ(xy) -> np.ndarray:
     return np.array([x / y, 1.0, (1.0 - x - y) / y])
 
 
+#: Linear sRGB -> XYZ as IEC 61966-2-1:1999 tabulates it (rounded to 4 digits; its Y row
+#: the Rec. 709 weights), as colour-science and :mod:`spectrace.spectral` use it.
+SRGB_TO_XYZ = ((0.4124, 0.3576, 0.1805), (0.2126, 0.7152, 0.0722), (0.0193, 0.1192, 0.9505))
+
+
 @cache
 def rgb_to_xyz_matrix(display: str) -> np.ndarray:
-    """The normalised primary matrix of a display's linear RGB (SMPTE RP 177-1993): the
-    columns are the primaries' XYZ scaled so that RGB (1, 1, 1) is D65 with Y = 1."""
+    """Linear RGB -> XYZ of a display: sRGB's tabulated matrix (:data:`SRGB_TO_XYZ`), else
+    the normalised primary matrix (SMPTE RP 177-1993: the columns are the primaries' XYZ
+    scaled so that RGB (1, 1, 1) is D65 with Y = 1)."""
+    if display == "srgb":
+        return np.asarray(SRGB_TO_XYZ, np.float64)
     P = np.stack([xy_to_XYZ(p) for p in PRIMARIES[display]], axis=1)
     return P * np.linalg.solve(P, xy_to_XYZ(D65_XY))[None, :]
 
@@ -177,9 +186,13 @@ def white_balance_matrix(rgb: np.ndarray, white_balance: str,
         if not source[1] > 0 or np.any(source <= 0):
             return None  # a black (or impossible) mean: nothing to balance
         source = source / source[1]
+    elif white == D65_XY:
+        return np.eye(3)  # the render's own white
     else:
         source = xy_to_XYZ(white)
-    cat = adaptation_matrix(source, xy_to_XYZ(D65_XY), method)
+    # the target: sRGB's white as its tabulated matrix has it (D65 within 1e-4), so that
+    # the white becomes R = G = B exactly
+    cat = adaptation_matrix(source, to_xyz @ np.ones(3), method)
     return np.linalg.solve(to_xyz, cat @ to_xyz)
 
 
