@@ -35,7 +35,8 @@ DISPLAY_OPTIONS = [
 
 
 MITSUBA_SCENE = """<scene version="3.0.0"><integrator type="path"/>
-<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="16"/>
+<sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 5"
+target="0, 0, 0" up="0, 1, 0"/></transform><film type="hdrfilm"><integer name="width" value="16"/>
 <integer name="height" value="16"/></film><sampler type="independent">
 <integer name="sample_count" value="4"/></sampler></sensor>
 <shape type="sphere"/><emitter type="constant"/></scene>"""
@@ -138,6 +139,8 @@ def test_view_reads_mitsubas_exr(tmp_path):
         pytest.skip(f"mitsuba cannot render the scene: {done.stderr[-300:]}")
     out = tmp_path / "mitsuba.png"
     assert main(["view", str(exr), "-o", str(out), "--exposure", "auto"]) == 0
+    rgb, _ = read_exr(exr)
+    assert rgb.mean() > 0.1
     assert png_pixels(out).mean() > 10
 
 
