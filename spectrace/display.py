@@ -311,8 +311,9 @@ def develop(rgb, settings: DisplaySettings | None = None) -> Developed:
     NaN and infinite values show as 0 (black)."""
     from spectrace.images import as_rgb
 
-    rgb = np.nan_to_num(np.asarray(as_rgb(rgb), np.float32), nan=0.0, posinf=0.0,
-                        neginf=0.0)
+    rgb = np.asarray(as_rgb(rgb), np.float32)
+    if not np.isfinite(rgb).all():
+        rgb = np.nan_to_num(rgb, nan=0.0, posinf=0.0, neginf=0.0)
     settings = DisplaySettings() if settings is None else settings
     check_settings(settings)
     notes = []
@@ -331,7 +332,9 @@ def develop(rgb, settings: DisplaySettings | None = None) -> Developed:
     encoded = VIEWS[settings.view](rgb, settings.display)
     top = 2**settings.png_bits - 1
     dtype = np.uint8 if settings.png_bits == 8 else np.uint16
-    codes = np.round(np.clip(np.nan_to_num(encoded, nan=0.0), 0.0, 1.0) * top).astype(dtype)
+    codes = np.clip(encoded, 0.0, 1.0)
+    codes *= top
+    codes = np.round(codes, out=codes).astype(dtype)  # finite: the input was made finite
     return Developed(codes, DISPLAYS[settings.display], scale, tuple(notes))
 
 

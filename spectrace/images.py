@@ -200,13 +200,18 @@ def read_exr(path) -> tuple[np.ndarray, dict]:
     import numpy as np
 
     channels, header = read_exr_channels(path)
+    return _channels_rgb(path, channels), header
+
+
+def _channels_rgb(path, channels: dict):
+    """(H, W, 3) float32 of a file's R, G, B channels, or its Y as grey."""
+    import numpy as np
+
     if all(c in channels for c in "RGB"):
-        rgb = np.stack([np.asarray(channels[c], np.float32) for c in "RGB"], axis=-1)
-    elif "Y" in channels:
-        rgb = np.repeat(np.asarray(channels["Y"], np.float32)[..., None], 3, axis=-1)
-    else:
-        raise FileFormatError(f"{path}: no R, G, B channels (has {', '.join(channels)})")
-    return rgb, header
+        return np.stack([np.asarray(channels[c], np.float32) for c in "RGB"], axis=-1)
+    if "Y" in channels:
+        return np.repeat(np.asarray(channels["Y"], np.float32)[..., None], 3, axis=-1)
+    raise FileFormatError(f"{path}: no R, G, B channels (has {', '.join(channels)})")
 
 
 def read_linear_srgb(path):
@@ -218,7 +223,7 @@ def read_linear_srgb(path):
 
     channels, _ = read_exr_channels(path)
     if all(c in channels for c in "RGB") or "Y" in channels:
-        return read_exr(path)[0]
+        return _channels_rgb(path, channels)
     from spectrace.spectral.exr import read_spectral_exr
     from spectrace.spectral.image import spectral_image_to_linear_srgb
 
