@@ -68,7 +68,8 @@ from spectrace.errors import ParameterError
 from spectrace.spectral.srgb import LUMINANCE_WEIGHTS, encode_srgb
 
 __all__ = ["CAT_METHODS", "DISPLAYS", "Developed", "DisplaySettings", "VIEWS", "develop",
-           "exposure_scale", "photometric_scene", "white_balance_matrix", "write_display_png"]
+           "exposure_scale", "photometric_scene", "planckian_xy", "white_balance_matrix",
+           "write_display_png"]
 
 #: Reinhard et al. (2002)'s key: the display value of the log-average luminance.
 MIDDLE_GREY = 0.18
@@ -336,6 +337,33 @@ def develop(rgb, settings: DisplaySettings | None = None) -> Developed:
     codes *= top
     codes = np.round(codes, out=codes).astype(dtype)  # finite: the input was made finite
     return Developed(codes, DISPLAYS[settings.display], scale, tuple(notes))
+
+
+#: Views :func:`develop_pair` can give back as linear sRGB (an sRGB-encoded result).
+PAIR_VIEWS = ("standard", "aces")
+
+
+def develop_pair(a, b, settings: DisplaySettings):
+    """Two linear sRGB images developed alike for a comparison: the exposure and white
+    balance found for ``a`` applied to both (so that a difference stays a difference),
+    then the view (:data:`PAIR_VIEWS`, sRGB display), decoded back to linear sRGB (what
+    :func:`spectrace.comparison.compare_images` takes). Returns (a, b, notes)."""
+    from spectrace.spectral.srgb import decode_srgb
+
+    if settings.view not in PAIR_VIEWS or settings.display != "srgb":
+        raise ParameterError(f"develop_pair: view must be one of {', '.join(PAIR_VIEWS)} on "
+                             f"the srgb display (got {settings.view!r}, {settings.display!r})")
+    a = np.asarray(a, np.float32)
+    scale, line = exposure_scale(a, settings)
+    M = white_balance_matrix(a, settings.white_balance)
+    M = scale * (np.eye(3) if M is None else M)
+    out = []
+    for image in (a, np.asarray(b, np.float32)):
+        image = image @ M.T.astype(np.float32)
+        if settings.view == "aces":
+            image = decode_srgb(view_aces(image, "srgb"))
+        out.append(image)
+    return out[0], out[1], (line,)
 
 
 def write_display_png(path, rgb, settings: DisplaySettings | None = None) -> Developed:

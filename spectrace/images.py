@@ -197,7 +197,6 @@ def _write_bitmap(path, tensor, header: dict | None, file_format: str) -> None:
 def read_exr(path) -> tuple[np.ndarray, dict]:
     """Read an RGB(A) EXR (spectrace's, or Mitsuba's half-float one) as (H, W, 3) float32
     numpy array and its header; a one-channel ``Y`` file as grey."""
-    import numpy as np
 
     channels, header = read_exr_channels(path)
     return _channels_rgb(path, channels), header

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import DEFAULT_VARIANT
+from spectrace.commands import add_display_options, display_settings
 from spectrace.errors import UserError
 
 SCENE_SUFFIXES = (".xml",)
@@ -41,6 +42,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the -D options that follow set the second side (B) of one scene")
     parser.add_argument("-o", "--output", default="out/compare.png",
                         help="side-by-side PNG (default out/compare.png)")
+    add_display_options(parser, views=False)
+    parser.add_argument("--view", default="standard", choices=("standard", "aces"),
+                        help="view transform of both sides before the comparison (default "
+                        "standard: the clip)")
 
 
 class _SideDefine(argparse.Action):
@@ -128,9 +133,17 @@ def run(args) -> int:
     out = Path(args.output)
     if out.suffix.lower() != ".png":
         raise UserError(f"output {out}: must end in .png")
+    settings = display_settings(args)
     check_writable(out)
     a, b, label_a, label_b = inputs(args)
     from spectrace.comparison import compare_images, write_figure
+
+    if not settings.is_default:  # exposure, white balance, view: the same for both sides
+        from spectrace.display import develop_pair
+
+        a, b, notes = develop_pair(a, b, settings)
+        for note in notes:
+            print(note)
 
     comparison = compare_images(a, b)
     write_figure(out, comparison, label_a, label_b)

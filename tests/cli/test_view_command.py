@@ -274,3 +274,21 @@ def test_view_reads_a_one_channel_exr(tmp_path):
     out = tmp_path / "y.png"
     assert main(["view", str(path), "-o", str(out)]) == 0
     assert np.all(png_pixels(out) == 188)  # sRGB(0.5) = 0.7354 -> 188
+
+
+def test_compare_develops_both_sides_alike(tmp_path, capsys):
+    """compare --exposure auto: the exposure found for A applies to B as well, so B = 2 A
+    still differs by +100 % in mean luminance (an exposure per side would hide it)."""
+    from spectrace.images import write_exr
+
+    rng = np.random.default_rng(3)
+    a = rng.uniform(0.01, 0.05, (8, 8, 3)).astype(np.float32)
+    write_exr(tmp_path / "a.exr", a)
+    write_exr(tmp_path / "b.exr", 2 * a)
+    out = tmp_path / "cmp.png"
+    assert main(["compare", str(tmp_path / "a.exr"), str(tmp_path / "b.exr"), "-o", str(out),
+                 "--exposure", "auto"]) == 0
+    printed = capsys.readouterr().out
+    assert "exposure: auto" in printed and "(B - A) / A: +1.0000" in printed
+    assert main(["compare", str(tmp_path / "a.exr"), str(tmp_path / "b.exr"), "-o", str(out),
+                 "--white-balance", "0K"]) == EXIT_USAGE
