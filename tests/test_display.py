@@ -214,3 +214,35 @@ def test_photometric_scene_detection():
     point = ET.fromstring('<scene><emitter type="pointlight"><float name="luminous_flux" '
                           'value="800"/></emitter></scene>')
     assert display.photometric_scene(point)
+
+
+PLANE_SCENE = """<scene version="3.0.0">
+<integrator type="direct"/>
+<sensor type="perspective"><float name="fov" value="4"/>
+<transform name="to_world"><lookat origin="0, 0, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
+<sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+</sensor>
+<emitter type="pointlight"><point name="position" x="0" y="0" z="1"/>
+<float name="luminous_intensity" value="100"/></emitter>
+<shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+</scene>"""
+#: the plane's luminance varies by cos^4 over the 4-degree view, and 16 spp of direct light
+PHOTOMETRIC_RTOL = 0.01
+
+
+@pytest.mark.parametrize("variant", ["llvm_ad_rgb", "llvm_ad_spectral"])
+def test_luminance_per_y_end_to_end(tmp_path, variant):
+    """100 cd at 1 m over a grey (0.5) Lambertian plane: E = 100 lx, L = E rho / pi = 15.92
+    cd/m^2; the render's Y times LUMINANCE_PER_Y gives that luminance (the false-colour
+    view's and --ev100's scale), in RGB and spectral variants."""
+    from spectrace.cli import main
+    from spectrace.images import read_exr
+
+    scene = tmp_path / "plane.xml"
+    scene.write_text(PLANE_SCENE)
+    out = tmp_path / "plane.exr"
+    assert main(["render", str(scene), "-o", str(out), "-q", "--variant", variant]) == 0
+    rgb, _ = read_exr(out)
+    L = display.luminance(rgb.astype(np.float64)).mean() * display.LUMINANCE_PER_Y
+    assert L == pytest.approx(100 * 0.5 / math.pi, rel=PHOTOMETRIC_RTOL)
