@@ -42,6 +42,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="render until the estimated relative error of the image (from "
                         "the spread between passes) is below TARGET, e.g. 0.01; --spp is then "
                         "the most it renders")
+    parser.add_argument("--denoise", action="store_true",
+                        help="also write OUT.denoised.exr (Intel Open Image Denoise with albedo "
+                        "and normal buffers; needs pyoidn) and make the PNG from it; OUT.exr "
+                        "stays the noisy render")
     parser.add_argument("--time", type=float, metavar="SECONDS",
                         help="stop at the first pass that ends after SECONDS; --spp is then "
                         "the most it renders")
@@ -64,7 +68,8 @@ def _is_folder(output: str) -> bool:
     return output.endswith(("/", os.sep)) or Path(output).is_dir()
 
 
-def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dict[str, Path]]:
+def scene_outputs(scenes: list[Path], output: str | None, film: str,
+                  denoise: bool = False) -> list[dict[str, Path]]:
     """The files of each scene: -o OUT.exr for one scene, -o FOLDER/ for any number."""
     if output is not None and _is_folder(output):
         outs = [str(Path(output) / f"{s.stem}.exr") for s in scenes]
@@ -73,7 +78,7 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
                         "(end it with /)")
     else:
         outs = [output] * len(scenes)
-    paths = [output_paths(s, o, film) for s, o in zip(scenes, outs, strict=True)]
+    paths = [output_paths(s, o, film, denoise) for s, o in zip(scenes, outs, strict=True)]
     seen: dict[Path, Path] = {}
     for scene, p in zip(scenes, paths, strict=True):
         if p["exr"] in seen:
@@ -82,7 +87,8 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
     return paths
 
 
-def output_paths(scene: Path, output: str | None, film: str) -> dict[str, Path]:
+def output_paths(scene: Path, output: str | None, film: str,
+                 denoise: bool = False) -> dict[str, Path]:
     """The files a render writes: EXR, PNG beside it, and the spectral EXR for that film."""
     exr = Path(output) if output else Path("out") / f"{scene.stem}.exr"
     png = exr.with_suffix(".png")
@@ -92,6 +98,8 @@ def output_paths(scene: Path, output: str | None, film: str) -> dict[str, Path]:
         raise UserError(f"output {exr}: must end in .exr or .png (the other is written "
                         "beside it)")
     paths = {"exr": exr, "png": png}
+    if denoise:
+        paths["denoised"] = exr.with_suffix(".denoised.exr")
     if film == "spectral":
         paths["spectral"] = exr.with_suffix(".spectral.exr")
     return paths
@@ -118,7 +126,17 @@ def run(args) -> int:
         raise UserError(f"--workers must be a positive integer (got {args.workers})")
     _check_until_clean(args)
     display_settings(args)  # a bad display option costs no render
-    all_paths = scene_outputs(scene_paths, args.output, args.film)
+    if args.denoise:
+        if args.film == "spectral":
+            raise UsageError("--denoise works with --film rgb")
+        from spectrace.denoise import check_denoiser
+        from spectrace.errors import ParameterError
+
+        try:
+            check_denoiser()
+        except ParameterError as e:
+            raise UsageError(f"--denoise: {e}") from None
+    all_paths = scene_outputs(scene_paths, args.output, args.film, args.denoise)
 
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
@@ -212,11 +230,13 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client, set
     if result.nonfinite:
         print(f"warning: {result.nonfinite} pixel values were NaN or infinite and were set to 0",
               file=sys.stderr)
-    notes = _write_outputs(result, paths, wavelengths, args, scene_path, settings)
+    notes = _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene)
     rate = result.samples_per_second
     passes = f"{result.passes} pass{'' if result.passes == 1 else 'es'}"
     print(f"{scene_path.name}: {result.spp} spp in {passes}, {result.seconds:.2f} s, "
           f"{rate / 1e6:.2f} M samples/s -> {paths['exr']}", flush=True)
+    if "denoised" in paths:
+        print(f"denoised (Open Image Denoise) -> {paths['denoised']}, {paths['png']}")
     if getattr(result, "noise", None) is not None:
         estimate = f"{result.noise:.4f}" if result.noise < float("inf") else "unknown (1 pass)"
         print(f"estimated relative error {estimate}, stopped by {result.stopped_by}")
@@ -251,9 +271,10 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
                              on_pass=on_pass)
 
 
-def _write_outputs(result, paths, wavelengths, args, scene_path, settings) -> tuple[str, ...]:
-    """Write the EXR (and the spectral EXR), then the PNG through the display pipeline;
-    returns the pipeline's notes (the exposure used)."""
+def _write_outputs(result, paths, wavelengths, args, scene_path, settings,
+                   scene=None) -> tuple[str, ...]:
+    """Write the EXR (and the spectral EXR, the denoised EXR), then the PNG through the
+    display pipeline; returns the pipeline's notes (the exposure used)."""
     from spectrace.images import write_exr, write_png
 
     header = {
@@ -275,6 +296,14 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings) -> tu
         write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
                            attributes=header)
     write_exr(paths["exr"], rgb, header)
+    if "denoised" in paths:  # a picture: the noisy EXR above is the measurement
+        import numpy as np
+
+        from spectrace.denoise import denoise_image, render_features
+
+        albedo, normal = render_features(scene, result.spp, seed=args.seed)
+        rgb = denoise_image(np.asarray(rgb, np.float32), albedo, normal)
+        write_exr(paths["denoised"], rgb, {**header, "denoiser": "Open Image Denoise RT"})
     if settings.is_default:  # the plain PNG (from a tensor: mi.Bitmap, no numpy)
         write_png(paths["png"], rgb)
         return ()

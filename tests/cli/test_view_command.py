@@ -292,3 +292,33 @@ def test_compare_develops_both_sides_alike(tmp_path, capsys):
     assert "exposure: auto" in printed and "(B - A) / A: +1.0000" in printed
     assert main(["compare", str(tmp_path / "a.exr"), str(tmp_path / "b.exr"), "-o", str(out),
                  "--white-balance", "0K"]) == EXIT_USAGE
+
+
+def test_denoise_writes_a_picture_and_keeps_the_noisy_exr(tmp_path, plain):
+    """--denoise: OUT.exr is the noisy render, bit for bit; OUT.denoised.exr is closer to a
+    256-spp reference than the noisy image (showcase, 4 spp), and the PNG is made from it."""
+    pytest.importorskip("pyoidn")
+    out = tmp_path / "img.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(out), *TINY, "-t", "1", "--denoise"]) == 0
+    assert read_exr(out)[0].tobytes() == read_exr(plain)[0].tobytes()
+    denoised, header = read_exr(out.with_suffix(".denoised.exr"))
+    assert header["denoiser"].startswith("Open Image Denoise")
+    reference = tmp_path / "ref.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(reference), *TINY, "--spp", "256",
+                 "--spp-per-pass", "64", "--seed", "7"]) == 0
+    ref = read_exr(reference)[0]
+    assert relative_rms(denoised, ref) < relative_rms(read_exr(out)[0], ref)
+    from spectrace.images import encode_srgb_8bit
+
+    np.testing.assert_array_equal(png_pixels(out.with_suffix(".png")),
+                                  encode_srgb_8bit(denoised))
+
+
+def test_denoise_without_the_library(tmp_path, capsys, monkeypatch):
+    """--denoise without pyoidn: one line naming --denoise and the package, exit 2, nothing
+    written."""
+    monkeypatch.setitem(sys.modules, "pyoidn", None)  # import pyoidn raises ImportError
+    out = tmp_path / "img.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(out), *TINY, "--denoise"]) == EXIT_USAGE
+    assert_one_line_error(capsys, "--denoise", "pyoidn")
+    assert not list(tmp_path.iterdir())
