@@ -2,7 +2,8 @@
 
 Two figures per display setting: the in-process time of reading the EXR, developing it and
 writing the PNG (``spectrace.cli.main(["view", ...])`` in a warm interpreter: what the
-command itself costs, without the interpreter's start-up), and the wall time of a whole
+command itself costs, without the interpreter's start-up; also its CPU time, the steadier
+figure on a machine that others load), and the wall time of a whole
 ``spectrace view`` process (start-up included). The image is a smooth gradient with noise
 (a render-like PNG to compress), written once with ``spectrace.images.write_exr``.
 The ratio column is each setting's in-process time over the default's.
@@ -56,22 +57,23 @@ def main() -> None:
         for name, options in SETTINGS.items():
             argv = ["view", str(exr), "-o", str(Path(folder) / "out.png"), *options]
             cli(argv)  # warm: imports, OCIO's config, colour maps
-            inside = []
+            inside, cpu = [], []
             for _ in range(args.repeats):
-                start = time.perf_counter()
+                start, start_cpu = time.perf_counter(), time.process_time()
                 cli(argv)
                 inside.append(time.perf_counter() - start)
+                cpu.append(time.process_time() - start_cpu)
             start = time.perf_counter()
             subprocess.run([sys.executable, "-m", "spectrace.cli", *argv], check=True,
                            capture_output=True)
             whole = time.perf_counter() - start
-            rows.append((name, statistics.median(inside), whole))
+            rows.append((name, statistics.median(inside), statistics.median(cpu), whole))
     base = rows[0][1]
     print(f"\nspectrace view, {args.size} x {args.size}, median of {args.repeats} "
           f"(target {TARGET_S} s in process)")
-    print(f"{'setting':<22}{'in process s':>14}{'ratio':>8}{'whole process s':>18}")
-    for name, inside, whole in rows:
-        print(f"{name:<22}{inside:>14.3f}{inside / base:>8.2f}{whole:>18.2f}")
+    print(f"{'setting':<22}{'in process s':>14}{'CPU s':>8}{'ratio':>8}{'whole process s':>18}")
+    for name, inside, cpu, whole in rows:
+        print(f"{name:<22}{inside:>14.3f}{cpu:>8.3f}{inside / base:>8.2f}{whole:>18.2f}")
 
 
 if __name__ == "__main__":

@@ -31,7 +31,8 @@ by four steps, each a function here, applied in this order by :func:`develop`:
 3. **view transform** (:data:`VIEWS`): ``standard`` (the values clipped to [0, 1], what
    Mitsuba's PNG shows), ``aces`` (the ACES 2.0 SDR 100-nit output transform through
    OpenColorIO's built-in ``studio-config``; the linear sRGB input is the config's ``Linear
-   Rec.709 (sRGB)``, which OCIO maps to ACES2065-1 with its Bradford matrix),
+   Rec.709 (sRGB)``, which OCIO maps to ACES2065-1 with its Bradford matrix), ``neutral``
+   (the Khronos PBR Neutral tone mapper: base colours kept, highlights compressed),
    ``false-colour`` (luminance in cd/m^2 on a log scale with a labelled colour bar, as
    Radiance's ``falsecolor``; exposure and white balance do not apply to it).
 
@@ -227,6 +228,32 @@ def view_aces(rgb: np.ndarray, display: str) -> np.ndarray:
     return np.clip(out, 0.0, 1.0)
 
 
+#: Khronos PBR Neutral: the compression starts at this value (0.8 - 0.04) and desaturates
+#: highlights by this rate.
+NEUTRAL_START = 0.76
+NEUTRAL_DESATURATION = 0.15
+
+
+def view_neutral(rgb: np.ndarray, display: str) -> np.ndarray:
+    """The Khronos PBR Neutral tone mapper (Khronos 3D Formats WG 2024, "Khronos PBR Neutral
+    Tone Mapper", Apache-2.0 reference): colours below 0.76 stay as they are (up to a small
+    toe offset), brighter ones are compressed towards 1 with hue kept and highlights
+    desaturated; on the display's primaries, sRGB-encoded. A filmic-like alternative to
+    ACES that keeps base colours (the AgX and Filmic configs are not in OpenColorIO's
+    built-in configs)."""
+    c = to_display_primaries(np.asarray(rgb, np.float64), display)
+    x = c.min(axis=-1, keepdims=True)
+    c = c - np.where(x < 0.08, x - 6.25 * x * x, 0.04)
+    peak = c.max(axis=-1, keepdims=True)
+    d = 1.0 - NEUTRAL_START
+    safe = np.maximum(peak, 1e-12)
+    new_peak = 1.0 - d * d / (peak + d - NEUTRAL_START)
+    g = 1.0 - 1.0 / (NEUTRAL_DESATURATION * (peak - new_peak) + 1.0)
+    compressed = c * (new_peak / safe) * (1.0 - g) + new_peak * g
+    out = np.where(peak < NEUTRAL_START, c, compressed)
+    return encode_srgb(np.clip(out, 0.0, 1.0))
+
+
 def false_colour_range(L: np.ndarray) -> tuple[float, float]:
     """(lowest, highest) luminance of the scale: the highest a power of ten at or above the
     :data:`FALSE_COLOUR_PERCENTILE` th percentile, :data:`FALSE_COLOUR_DECADES` below it."""
@@ -290,7 +317,7 @@ def _decade_label(value: float) -> str:
 #: View name -> function(linear sRGB after exposure and white balance, display) -> encoded
 #: display values in [0, 1].
 VIEWS: Mapping[str, Callable[[np.ndarray, str], np.ndarray]] = dict(zip(
-    VIEW_NAMES, (view_standard, view_aces, view_false_colour), strict=True))
+    VIEW_NAMES, (view_standard, view_aces, view_neutral, view_false_colour), strict=True))
 #: Views that show the scene's absolute luminance: exposure and white balance do not apply.
 ABSOLUTE_VIEWS = ("false-colour",)
 
@@ -340,7 +367,7 @@ def develop(rgb, settings: DisplaySettings | None = None) -> Developed:
 
 
 #: Views :func:`develop_pair` can give back as linear sRGB (an sRGB-encoded result).
-PAIR_VIEWS = ("standard", "aces")
+PAIR_VIEWS = ("standard", "aces", "neutral")
 
 
 def develop_pair(a, b, settings: DisplaySettings):
@@ -360,8 +387,8 @@ def develop_pair(a, b, settings: DisplaySettings):
     out = []
     for image in (a, np.asarray(b, np.float32)):
         image = image @ M.T.astype(np.float32)
-        if settings.view == "aces":
-            image = decode_srgb(view_aces(image, "srgb"))
+        if settings.view != "standard":
+            image = decode_srgb(VIEWS[settings.view](image, "srgb"))
         out.append(image)
     return out[0], out[1], (line,)
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 from spectrace.errors import ParameterError
 
 #: The view transforms of :data:`spectrace.display.VIEWS`, in the order the help lists them.
-VIEW_NAMES = ("standard", "aces", "false-colour")
+VIEW_NAMES = ("standard", "aces", "neutral", "false-colour")
 
 #: CIE xy of the whites and primaries (IEC 61966-2-1 for sRGB, SMPTE EG 432-1 for P3-D65).
 D65_XY = (0.3127, 0.3290)

@@ -246,3 +246,21 @@ def test_luminance_per_y_end_to_end(tmp_path, variant):
     rgb, _ = read_exr(out)
     L = display.luminance(rgb.astype(np.float64)).mean() * display.LUMINANCE_PER_Y
     assert L == pytest.approx(100 * 0.5 / math.pi, rel=PHOTOMETRIC_RTOL)
+
+
+def test_neutral_view_by_hand():
+    """Khronos PBR Neutral, worked by hand: (0.5, 0.3, 0.2) is below the compression start:
+    minus the offset 0.04 -> (0.46, 0.26, 0.16); (2, 1, 0.5): offset 0.04, peak 1.96,
+    new peak 1 - 0.24^2 / (1.96 + 0.24 - 0.76) = 0.96, desaturation g = 1 - 1 / (0.15 (1.96
+    - 0.96) + 1) = 0.1304; white (10, 10, 10) stays neutral and below 1."""
+    from spectrace.spectral.srgb import decode_srgb
+
+    rgb = np.array([[[0.5, 0.3, 0.2], [2.0, 1.0, 0.5], [10.0, 10.0, 10.0]]])
+    out = decode_srgb(display.view_neutral(rgb, "srgb"))[0]
+    np.testing.assert_allclose(out[0], [0.46, 0.26, 0.16], rtol=1e-12)
+    peak, new_peak = 1.96, 1 - 0.24**2 / 1.44
+    g = 1 - 1 / (0.15 * (peak - new_peak) + 1)
+    expected = np.array([1.96, 0.96, 0.46]) * new_peak / peak * (1 - g) + new_peak * g
+    np.testing.assert_allclose(out[1], expected, rtol=1e-12)
+    assert out[2][0] == pytest.approx(out[2][1]) == pytest.approx(out[2][2])
+    assert 0.99 < out[2][0] < 1.0

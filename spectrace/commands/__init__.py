@@ -86,7 +86,8 @@ def add_display_options(parser, views: bool = True) -> None:
 
         group.add_argument("--view", default="standard", metavar="|".join(VIEW_NAMES),
                            help="view transform: standard (clip), aces (ACES 2.0 SDR through "
-                           "OpenColorIO), false-colour (luminance in cd/m^2, log scale)")
+                           "OpenColorIO), neutral (Khronos PBR Neutral), false-colour "
+                           "(luminance in cd/m^2, log scale)")
         group.add_argument("--display", default="srgb", metavar="|".join(DISPLAYS),
                            help="the PNG's colour space (default srgb)")
         group.add_argument("--png-bits", type=int, default=8, metavar="|".join(map(str, PNG_BITS)),

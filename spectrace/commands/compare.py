@@ -43,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default="out/compare.png",
                         help="side-by-side PNG (default out/compare.png)")
     add_display_options(parser, views=False)
-    parser.add_argument("--view", default="standard", choices=("standard", "aces"),
+    parser.add_argument("--view", default="standard", choices=("standard", "aces", "neutral"),
                         help="view transform of both sides before the comparison (default "
                         "standard: the clip)")
 
