@@ -190,18 +190,25 @@ def relative_error(sum_w, sum_w2, done: int, passes: int):
         e = sqrt(mean(s^2 / N)) / sqrt(mean(M^2)),
 
     the estimate of ||M - R|| / ||R|| for the converged image R (checked against a reference
-    render in tests/test_render.py). ``sum_w``, ``sum_w2``: the flat Dr.Jit float64 sums
-    sum n_i I_i and sum n_i I_i^2. Returns a Python float (inf with fewer than 2 passes or
-    a black image)."""
-    import drjit as dr
-
+    render in tests/cli/test_view_command.py). ``sum_w``, ``sum_w2``: the float64 sums
+    sum n_i I_i and sum n_i I_i^2, flat Dr.Jit arrays (the local loop) or numpy arrays (what
+    a distributed loop holds). Returns a Python float (inf with fewer than 2 passes or a
+    black image)."""
     if passes < 2:
         return float("inf")
     mean = sum_w / done
-    spread = dr.maximum(sum_w2 - mean * sum_w, 0.0)  # sum n_i (I_i - M)^2
-    variance_of_mean = dr.sum(spread) / ((passes - 1) * done)
-    power = dr.sum(mean * mean)
-    variance_of_mean, power = float(variance_of_mean[0]), float(power[0])
+    if type(sum_w).__module__.startswith("drjit"):
+        import drjit as dr
+
+        spread = dr.maximum(sum_w2 - mean * sum_w, 0.0)  # sum n_i (I_i - M)^2
+        variance_of_mean = float(dr.sum(spread)[0]) / ((passes - 1) * done)
+        power = float(dr.sum(mean * mean)[0])
+    else:
+        import numpy as np
+
+        spread = np.maximum(sum_w2 - mean * sum_w, 0.0)
+        variance_of_mean = float(spread.sum()) / ((passes - 1) * done)
+        power = float((mean * mean).sum())
     if not power > 0:
         return float("inf")
     return (variance_of_mean / power) ** 0.5
