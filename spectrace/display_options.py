@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from spectrace.errors import ParameterError
 
@@ -50,9 +50,6 @@ class DisplaySettings:
     def is_default(self) -> bool:
         """Whether these settings make the plain clipped sRGB PNG."""
         return self == DisplaySettings()
-
-    def with_exposure(self, exposure) -> DisplaySettings:
-        return replace(self, exposure=exposure)
 
 
 def parse_exposure(value) -> float | str | None:

@@ -124,7 +124,7 @@ def run(args) -> int:
         raise UserError("--bands applies only with --film spectral")
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers must be a positive integer (got {args.workers})")
-    _check_until_clean(args)
+    _check_run_options(args)
     display_settings(args)  # a bad display option costs no render
     if args.denoise:
         if args.film == "spectral":
@@ -183,7 +183,7 @@ def run(args) -> int:
     return 0
 
 
-def _check_until_clean(args) -> None:
+def _check_run_options(args) -> None:
     """--threads, --noise and --time: positive (UsageError naming the flag)."""
     import math
 
