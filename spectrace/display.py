@@ -167,8 +167,8 @@ def exposure_scale(rgb: np.ndarray, settings: DisplaySettings) -> tuple[float, s
         scale = MIDDLE_GREY / log_average
         ev100 = math.log2(log_average * LUMINANCE_PER_Y / (MIDDLE_GREY * SATURATION_LUMINANCE))
         return scale, (f"exposure: auto {math.log2(scale):+.2f} EV (log-average Y "
-                       f"{log_average:.4g} to {MIDDLE_GREY}; EV100 {ev100:.2f} at the scene's "
-                       "photometric scale)")
+                       f"{log_average:.4g} to {MIDDLE_GREY}; EV100 {ev100:.2f} if the scene is in "
+                       "photometric units)")
     ev = 0.0 if exposure is None else exposure
     return 2.0**ev, f"exposure: {ev:+.2f} EV (x{2.0**ev:.4g})"
 
