@@ -332,6 +332,15 @@ class Developed:
     exposure: float
     notes: tuple[str, ...]
 
+    @property
+    def display_linear(self) -> np.ndarray:
+        """The picture as display-referred linear values in [0, 1] (float32, the display's
+        primaries): the codes with the sRGB curve undone, what ``OUT.display.exr`` holds."""
+        from spectrace.spectral.srgb import decode_srgb
+
+        top = np.float32(np.iinfo(self.codes.dtype).max)
+        return decode_srgb(self.codes.astype(np.float32) / top)
+
 
 def develop(rgb, settings: DisplaySettings | None = None) -> Developed:
     """Linear sRGB (H, W, 3) (or a mono image: :func:`spectrace.images.as_rgb`) -> the PNG's
@@ -393,10 +402,19 @@ def develop_pair(a, b, settings: DisplaySettings):
     return out[0], out[1], (line,)
 
 
-def write_display_png(path, rgb, settings: DisplaySettings | None = None) -> Developed:
-    """:func:`develop` ``rgb`` and write the PNG (atomic); returns what was developed."""
-    from spectrace.images import write_png_codes
+def write_display_png(path, rgb, settings: DisplaySettings | None = None,
+                      display_exr=None) -> Developed:
+    """:func:`develop` ``rgb`` and write the PNG (atomic), and with ``display_exr`` (a path)
+    the display-referred copy there (:attr:`Developed.display_linear`, with the settings
+    in its header); returns what was developed."""
+    from spectrace.images import write_exr, write_png_codes
 
+    settings = DisplaySettings() if settings is None else settings
     developed = develop(rgb, settings)
     write_png_codes(path, developed.codes, cicp=developed.cicp)
+    if display_exr is not None:
+        header = {"view": settings.view, "display": settings.display,
+                  "exposure_scale": float(developed.exposure),
+                  "white_balance": settings.white_balance}
+        write_exr(display_exr, developed.display_linear, header)
     return developed

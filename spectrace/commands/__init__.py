@@ -92,6 +92,9 @@ def add_display_options(parser, views: bool = True) -> None:
                            help="the PNG's colour space (default srgb)")
         group.add_argument("--png-bits", type=int, default=8, metavar="|".join(map(str, PNG_BITS)),
                            help="bits per channel of the PNG (default 8)")
+        group.add_argument("--display-exr", action="store_true",
+                           help="also write OUT.display.exr: the PNG's picture as linear "
+                           "display values in [0, 1] (the scene-referred EXR stays as it is)")
 
 
 def display_settings(args, photometric: bool = False):

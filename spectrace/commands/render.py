@@ -69,7 +69,7 @@ def _is_folder(output: str) -> bool:
 
 
 def scene_outputs(scenes: list[Path], output: str | None, film: str,
-                  denoise: bool = False) -> list[dict[str, Path]]:
+                  denoise: bool = False, display_exr: bool = False) -> list[dict[str, Path]]:
     """The files of each scene: -o OUT.exr for one scene, -o FOLDER/ for any number."""
     if output is not None and _is_folder(output):
         outs = [str(Path(output) / f"{s.stem}.exr") for s in scenes]
@@ -78,7 +78,8 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str,
                         "(end it with /)")
     else:
         outs = [output] * len(scenes)
-    paths = [output_paths(s, o, film, denoise) for s, o in zip(scenes, outs, strict=True)]
+    paths = [output_paths(s, o, film, denoise, display_exr)
+             for s, o in zip(scenes, outs, strict=True)]
     seen: dict[Path, Path] = {}
     for scene, p in zip(scenes, paths, strict=True):
         if p["exr"] in seen:
@@ -88,7 +89,7 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str,
 
 
 def output_paths(scene: Path, output: str | None, film: str,
-                 denoise: bool = False) -> dict[str, Path]:
+                 denoise: bool = False, display_exr: bool = False) -> dict[str, Path]:
     """The files a render writes: EXR, PNG beside it, and the spectral EXR for that film."""
     exr = Path(output) if output else Path("out") / f"{scene.stem}.exr"
     png = exr.with_suffix(".png")
@@ -100,6 +101,8 @@ def output_paths(scene: Path, output: str | None, film: str,
     paths = {"exr": exr, "png": png}
     if denoise:
         paths["denoised"] = exr.with_suffix(".denoised.exr")
+    if display_exr:
+        paths["display"] = exr.with_suffix(".display.exr")
     if film == "spectral":
         paths["spectral"] = exr.with_suffix(".spectral.exr")
     return paths
@@ -136,7 +139,8 @@ def run(args) -> int:
             check_denoiser()
         except ParameterError as e:
             raise UsageError(f"--denoise: {e}") from None
-    all_paths = scene_outputs(scene_paths, args.output, args.film, args.denoise)
+    all_paths = scene_outputs(scene_paths, args.output, args.film, args.denoise,
+                              args.display_exr)
 
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
@@ -304,11 +308,12 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings,
         albedo, normal = render_features(scene, result.spp, seed=args.seed)
         rgb = denoise_image(np.asarray(rgb, np.float32), albedo, normal)
         write_exr(paths["denoised"], rgb, {**header, "denoiser": "Open Image Denoise RT"})
-    if settings.is_default:  # the plain PNG (from a tensor: mi.Bitmap, no numpy)
+    if settings.is_default and "display" not in paths:  # the plain PNG (a tensor: mi.Bitmap)
         write_png(paths["png"], rgb)
         return ()
     import numpy as np
 
     from spectrace.display import write_display_png
 
-    return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings).notes
+    return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings,
+                             paths.get("display")).notes

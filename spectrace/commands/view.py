@@ -40,8 +40,11 @@ def run(args) -> int:
     from spectrace.display import write_display_png
     from spectrace.images import read_linear_srgb
 
+    display_exr = out.with_suffix(".display.exr") if args.display_exr else None
+    if display_exr is not None:
+        check_writable(display_exr)
     rgb = read_linear_srgb(image)
-    developed = write_display_png(out, rgb, settings)
+    developed = write_display_png(out, rgb, settings, display_exr)
     for note in developed.notes:
         print(note)
     h, w = developed.codes.shape[:2]

@@ -31,6 +31,7 @@ DISPLAY_OPTIONS = [
     ["--exposure", "auto", "--white-balance", "3000K"],
     ["--ev100", "9", "--view", "aces", "--display", "display-p3"],
     ["--view", "false-colour", "--png-bits", "16"],
+    ["--view", "neutral", "--display-exr"],
 ]
 
 
@@ -86,6 +87,18 @@ def test_view_redevelops_the_render_png(tmp_path, plain, capsys):
     np.testing.assert_array_equal(png_pixels(out), png_pixels(plain.with_suffix(".png")))
     assert main(["view", str(plain), "-o", str(out), "--exposure", "-1"]) == 0
     assert "exposure: -1.00 EV" in capsys.readouterr().out
+
+
+def test_display_exr_is_the_png_in_linear_display_values(tmp_path, plain):
+    """--display-exr: OUT.display.exr holds the PNG's codes with the sRGB curve undone
+    (display-referred, in [0, 1]), its settings in the header."""
+    from spectrace.spectral.srgb import decode_srgb
+
+    out = tmp_path / "dev.png"
+    assert main(["view", str(plain), "-o", str(out), "--view", "aces", "--display-exr"]) == 0
+    linear, header = read_exr(tmp_path / "dev.display.exr")
+    np.testing.assert_allclose(linear, decode_srgb(png_pixels(out) / 255.0), atol=1e-6)
+    assert header["view"] == "aces" and 0 <= linear.min() and linear.max() <= 1
 
 
 def test_view_writes_sixteen_bit_png(tmp_path, plain):
