@@ -13,6 +13,7 @@ import importlib
 import re
 import sys
 
+from spectrace.commands import EXIT_INTERRUPTED, EXIT_USAGE
 from spectrace.errors import SpectraceError, UsageError
 
 #: subcommand -> (module, one-line help)
@@ -31,6 +32,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "help": ("spectrace.commands.help", "a plugin's reference page (help phong), or the list"),
     "lux": ("spectrace.commands.lux",
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
+    "view": ("spectrace.commands.view",
+             "develop an EXR into a PNG: exposure, white balance, view transform"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
     "validate": ("spectrace.commands.validate",
@@ -39,10 +42,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
                "convert environment maps between latlong, cube cross and mirror ball"),
 }
 
-EXIT_USAGE = 2
 #: A negative number, or a comma- or space-separated list that starts with one.
 _NEGATIVE_NUMBERS = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:[, ].*)?$")
-EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):

@@ -12,9 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from spectrace.errors import ParameterError
+from spectrace.spectral import srgb
 
-#: Rec. 709 / sRGB luminance weights of linear R, G, B (IEC 61966-2-1, Y row of the matrix).
-LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
+#: Rec. 709 / sRGB luminance weights of linear R, G, B (one source: spectral.srgb).
+LUMINANCE_WEIGHTS = np.array(srgb.LUMINANCE_WEIGHTS)
 
 
 @dataclass

@@ -1,4 +1,11 @@
-"""Image files: float32 linear-sRGB EXR, 8-bit sRGB PNG, atomic writes, reading back.
+"""Image files: float32 linear-sRGB EXR, sRGB PNG, atomic writes, reading back.
+
+This module owns every image file of spectrace: the render's EXR and PNG
+(:func:`write_exr`, :func:`write_png`), the PNGs of the display pipeline
+(:func:`write_png_codes`, 8 or 16 bits, from :mod:`spectrace.display`), one-channel maps
+(:func:`write_channel_exr`, :func:`read_channel_exr`: the lux maps), any RGB(A) EXR
+(:func:`read_exr`) and the Fichet 2021 spectral EXRs through :mod:`spectrace.spectral.exr`,
+which writes through :func:`write_exr_channels` here.
 
 Every writer goes through :func:`atomic_path`: the file is written under a temporary name
 in the destination folder and renamed over the target, so a reader never sees a
@@ -19,15 +26,17 @@ import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from spectrace.errors import FileAccessError, FileFormatError
+from spectrace.errors import FileAccessError, FileFormatError, first_line
 
 if TYPE_CHECKING:
     import numpy as np
 
-# IEC 61966-2-1, as spectrace.spectral.srgb.encode_srgb
-_SRGB_LINEAR_MAX = 0.0031308
-_SRGB_SLOPE = 12.92
-_SRGB_GAMMA = 2.4
+#: Mitsuba's EXR writer (its bundled OpenEXR 2.5) queues the lines of a file on the global
+#: thread pool and waits for them: with a Dr.Jit pool of one thread
+#: (``dr.set_thread_count(1)``, what ``-t 1`` asks) no thread runs them and the write hangs
+#: (``Imf::OutputFile::writePixels`` waits on ``IlmThread::Semaphore``). :func:`_write_bitmap`
+#: writes with at least this many threads.
+WRITER_THREADS = 2
 
 
 @contextlib.contextmanager
@@ -108,13 +117,52 @@ def write_exr(path, rgb, header: dict | None = None) -> None:
         _write_bitmap(path, _float32_tensor(as_rgb(rgb)), header, "OpenEXR")
         return
     import numpy as np
+
+    write_exr_channels(path, {"RGB": np.asarray(as_rgb(rgb))}, header)
+
+
+def write_exr_channels(path, channels: dict, header: dict | None = None,
+                       dtype=None) -> None:
+    """Write named channels (H, W) (or "RGB"/"RGBA" -> (H, W, 3|4), split into R, G, B, A)
+    as a ZIP-compressed scanline OpenEXR file, atomically, with ``header``'s attributes
+    (int, float, str). ``dtype``: numpy float32 (default) or float16."""
+    import numpy as np
     import OpenEXR
 
-    rgb = np.ascontiguousarray(as_rgb(rgb), dtype=np.float32)
+    dtype = np.float32 if dtype is None else dtype
     hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     hdr.update(header or {})
-    with atomic_path(path) as tmp:
-        OpenEXR.File(hdr, {"RGB": rgb}).write(tmp)
+    data = {name: np.ascontiguousarray(values, dtype=dtype) for name, values in channels.items()}
+    with atomic_path(path) as tmp, OpenEXR.File(hdr, data) as f:
+        f.write(tmp)
+
+
+def read_exr_channels(path) -> tuple[dict, dict]:
+    """Every channel of an EXR file as ``{name: (H, W) array}`` (OpenEXR's pixel types:
+    float32, float16, uint32) and its header; FileAccessError / FileFormatError naming the
+    file when it is missing or not an OpenEXR file."""
+    import OpenEXR
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileAccessError(f"{path}: no such file")
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as f:
+            return ({name: ch.pixels for name, ch in f.channels().items()},
+                    dict(f.header()))
+    except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
+        raise FileFormatError(f"{path}: not a readable OpenEXR file ({first_line(e)})") from None
+
+
+def read_channel_exr(path, name: str):
+    """One channel of an EXR as (H, W) float32 and the header; FileFormatError when the file
+    has no such channel."""
+    import numpy as np
+
+    channels, header = read_exr_channels(path)
+    if name not in channels:
+        raise FileFormatError(f"{path}: no {name} channel (has {', '.join(channels)})")
+    return np.asarray(channels[name], dtype=np.float32), header
 
 
 def _float32_tensor(tensor):
@@ -128,6 +176,7 @@ def _float32_tensor(tensor):
 def _write_bitmap(path, tensor, header: dict | None, file_format: str) -> None:
     """Write an (H, W, 3) Dr.Jit tensor with Mitsuba's own image writer (``mi.Bitmap``);
     ``header`` becomes the bitmap's metadata, which the EXR writer stores as attributes."""
+    import drjit as dr
     import mitsuba as mi
 
     bitmap = mi.Bitmap(tensor, mi.Bitmap.PixelFormat.RGB)
@@ -136,29 +185,53 @@ def _write_bitmap(path, tensor, header: dict | None, file_format: str) -> None:
     metadata = bitmap.metadata()
     for key, value in (header or {}).items():
         metadata[key] = value
+    threads = dr.thread_count()
     with atomic_path(path) as tmp:
-        bitmap.write(tmp, getattr(mi.Bitmap.FileFormat, file_format))
+        if threads < WRITER_THREADS:
+            dr.set_thread_count(WRITER_THREADS)
+        try:
+            bitmap.write(tmp, getattr(mi.Bitmap.FileFormat, file_format))
+        finally:
+            if threads < WRITER_THREADS:
+                dr.set_thread_count(threads)
 
 
 def read_exr(path) -> tuple[np.ndarray, dict]:
-    """Read an RGB(A) EXR as (H, W, 3) float32 numpy array and its header."""
-    import numpy as np
-    import OpenEXR
+    """Read an RGB(A) EXR (spectrace's, or Mitsuba's half-float one) as (H, W, 3) float32
+    numpy array and its header; a one-channel ``Y`` file as grey."""
 
-    try:
-        with OpenEXR.File(str(path)) as f:
-            channels = f.channels()
-            header = dict(f.header())
-            if "RGB" in channels:
-                rgb = channels["RGB"].pixels
-            elif "RGBA" in channels:
-                rgb = channels["RGBA"].pixels[..., :3]
-            else:
-                names = ", ".join(channels)
-                raise FileFormatError(f"{path}: no R, G, B channels (has {names})")
-    except (OSError, RuntimeError) as e:
-        raise FileFormatError(f"cannot read EXR {path}: {e}") from None
-    return np.asarray(rgb, dtype=np.float32), header
+    channels, header = read_exr_channels(path)
+    return _channels_rgb(path, channels), header
+
+
+def _channels_rgb(path, channels: dict):
+    """(H, W, 3) float32 of a file's R, G, B channels, or its Y as grey."""
+    import numpy as np
+
+    if all(c in channels for c in "RGB"):
+        return np.stack([np.asarray(channels[c], np.float32) for c in "RGB"], axis=-1)
+    if "Y" in channels:
+        return np.repeat(np.asarray(channels["Y"], np.float32)[..., None], 3, axis=-1)
+    raise FileFormatError(f"{path}: no R, G, B channels (has {', '.join(channels)})")
+
+
+def read_linear_srgb(path):
+    """Any EXR spectrace or Mitsuba writes as (H, W, 3) float32 linear sRGB: R, G, B
+    channels (also a spectral EXR's preview), a one-channel ``Y`` as grey, or the spectra
+    of a Fichet 2021 spectral EXR without preview (through
+    :func:`spectrace.spectral.spectral_image_to_linear_srgb`)."""
+    import numpy as np
+
+    channels, _ = read_exr_channels(path)
+    if all(c in channels for c in "RGB") or "Y" in channels:
+        return _channels_rgb(path, channels)
+    from spectrace.spectral.exr import read_spectral_exr
+    from spectrace.spectral.image import spectral_image_to_linear_srgb
+
+    image, wavelengths, header = read_spectral_exr(path, with_header=True)
+    illuminant = "D65" if not any(k.startswith("S0.") for k in channels) else None
+    return np.asarray(spectral_image_to_linear_srgb(image, wavelengths, illuminant),
+                      np.float32)
 
 
 def encode_srgb_8bit(rgb):
@@ -176,12 +249,16 @@ def encode_srgb_8bit(rgb):
 
 
 def _encode_srgb_8bit_tensor(rgb):
+    """:func:`spectrace.spectral.srgb.encode_srgb` in Dr.Jit (the same constants), so that
+    the render's PNG needs no numpy."""
     import drjit as dr
+
+    from spectrace.spectral import srgb
 
     flat = type(rgb.array)
     L = dr.clip(dr.float64_array_t(flat)(rgb.array), 0.0, 1.0)  # +inf -> 1, -inf -> 0
-    V = dr.select(L <= _SRGB_LINEAR_MAX, _SRGB_SLOPE * L,
-                  1.055 * dr.power(L, 1.0 / _SRGB_GAMMA) - 0.055)
+    V = dr.select(L <= srgb.SRGB_LINEAR_MAX, srgb.SRGB_SLOPE * L,
+                  srgb.SRGB_SCALE * dr.power(L, 1.0 / srgb.SRGB_GAMMA) - srgb.SRGB_OFFSET)
     V = dr.select(dr.isnan(V), 0.0, V)  # NaN -> 0, as numpy's nan_to_num
     codes = dr.uint8_array_t(flat)(dr.round(V * 255.0))
     return dr.uint8_array_t(type(rgb))(codes, rgb.shape)
@@ -192,10 +269,52 @@ def write_png(path, rgb) -> None:
     if is_tensor(rgb):
         _write_bitmap(path, encode_srgb_8bit(rgb), None, "PNG")
         return
-    from PIL import Image
+    write_png_codes(path, encode_srgb_8bit(rgb))
 
-    with atomic_path(path) as tmp:
-        Image.fromarray(encode_srgb_8bit(rgb), "RGB").save(tmp, format="PNG")
+
+#: zlib level of :func:`write_png_codes`: level 1 with PNG's Sub filter is within a few
+#: per cent of level 6's size on renders and several times faster.
+PNG_ZLIB_LEVEL = 1
+
+
+def write_png_codes(path, codes, cicp: bytes | None = None) -> None:
+    """Write (H, W, 3) uint8 or uint16 display codes as an 8- or 16-bit RGB PNG (ISO/IEC
+    15948, filter type 1 "Sub" on every line), atomically. ``cicp``: the 4 bytes of a cICP
+    chunk (PNG 3rd edition: the colour primaries and transfer of the codes, ITU-T H.273);
+    sRGB PNGs also get the sRGB chunk."""
+    import struct
+    import zlib
+
+    import numpy as np
+
+    codes = np.asarray(codes)
+    if codes.ndim != 3 or codes.shape[-1] != 3 or codes.dtype not in (np.uint8, np.uint16):
+        raise ValueError(f"write_png_codes: codes must be (H, W, 3) uint8 or uint16 "
+                         f"(got {codes.shape} {codes.dtype})")
+    height, width = codes.shape[:2]
+    bits = 8 * codes.dtype.itemsize
+    rows = codes.astype(codes.dtype.newbyteorder(">"), copy=False).view(np.uint8)
+    rows = rows.reshape(height, width * 3 * codes.dtype.itemsize)
+    step = 3 * codes.dtype.itemsize  # bytes per pixel: Sub subtracts the pixel to the left
+    filtered = np.empty((height, rows.shape[1] + 1), np.uint8)
+    filtered[:, 0] = 1
+    filtered[:, 1:step + 1] = rows[:, :step]
+    np.subtract(rows[:, step:], rows[:, :-step], out=filtered[:, step + 1:])
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    parts = [b"\x89PNG\r\n\x1a\n",
+             chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 2, 0, 0, 0))]
+    if cicp is not None:
+        parts.append(chunk(b"cICP", bytes(cicp)))
+    if cicp is None or cicp[0] == 1:
+        parts.append(chunk(b"sRGB", b"\x00"))  # rendering intent: perceptual
+    parts += [chunk(b"IDAT", zlib.compress(filtered.tobytes(), PNG_ZLIB_LEVEL)),
+              chunk(b"IEND", b"")]
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(b"".join(parts))
 
 
 def read_image(path) -> np.ndarray:
@@ -215,5 +334,5 @@ def read_image(path) -> np.ndarray:
         with Image.open(path) as im:
             data = np.asarray(im.convert("RGB"), dtype=np.float64) / 255.0
     except (OSError, UnidentifiedImageError) as e:
-        raise FileFormatError(f"cannot read image {path}: {e}") from None
+        raise FileFormatError(f"cannot read image {path}: {first_line(e)}") from None
     return decode_srgb(data).astype(np.float32)

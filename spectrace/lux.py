@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from spectrace.errors import FileFormatError, ParameterError
+from spectrace.errors import ParameterError
 
 __all__ = ["LuxMap", "MIN_MEASURED", "PLANE_FORMAT", "lux_scene_tree", "lux_statistics",
            "parse_plane", "parse_range", "plot_lux", "render_lux", "write_lux_exr"]
@@ -297,13 +297,11 @@ def render_lux(scene, spp: int, seed: int = 0, plane: Plane | None = None,
 
 def write_lux_exr(path, luxmap: LuxMap, header: dict | None = None) -> None:
     """Write the map as one float32 channel ``Y`` in lux (0 where there is no data), with
-    the statistics and ``header`` (int, float or str values) as attributes; atomic."""
-    import OpenEXR
+    the statistics and ``header`` (int, float or str values) as attributes; atomic
+    (:func:`spectrace.images.write_exr_channels`)."""
+    from spectrace.images import write_exr_channels
 
-    from spectrace.images import atomic_path
-
-    attributes = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
-                  "units": "lux", "spp": int(luxmap.spp), "max_depth": int(luxmap.max_depth),
+    attributes = {"units": "lux", "spp": int(luxmap.spp), "max_depth": int(luxmap.max_depth),
                   "E_min": float(luxmap.minimum), "E_mean": float(luxmap.mean),
                   "E_max": float(luxmap.maximum), "no_data_pixels": int(luxmap.no_data)}
     if not math.isnan(luxmap.uniformity):
@@ -311,23 +309,14 @@ def write_lux_exr(path, luxmap: LuxMap, header: dict | None = None) -> None:
     if luxmap.plane is not None:
         attributes["plane"] = plane_string(luxmap.plane)
     attributes.update(header or {})
-    Y = np.ascontiguousarray(luxmap.lux, dtype=np.float32)
-    with atomic_path(path) as tmp:
-        OpenEXR.File(attributes, {"Y": Y}).write(tmp)
+    write_exr_channels(path, {"Y": luxmap.lux}, attributes)
 
 
 def read_lux_exr(path) -> tuple[np.ndarray, dict]:
     """The ``Y`` channel (lux) of a lux EXR as (H, W) float32, and its header."""
-    import OpenEXR
+    from spectrace.images import read_channel_exr
 
-    try:
-        with OpenEXR.File(str(path)) as f:
-            channels = f.channels()
-            if "Y" not in channels:
-                raise FileFormatError(f"{path}: no Y channel (has {', '.join(channels)})")
-            return np.asarray(channels["Y"].pixels, dtype=np.float32), dict(f.header())
-    except (OSError, RuntimeError) as e:
-        raise FileFormatError(f"cannot read EXR {path}: {e}") from None
+    return read_channel_exr(path, "Y")
 
 
 def _smooth(values: np.ndarray, valid: np.ndarray, sigma: float) -> np.ndarray:

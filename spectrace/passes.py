@@ -13,6 +13,11 @@ per pass), but each pass costs about 12 ms of tracing and launching, and the pro
 and Ctrl-C act between passes. A SIGINT (Ctrl-C) during a pass lets the pass finish and
 then stops the loop, so the image of the completed passes can still be saved.
 
+Render until clean (the local loop): with ``noise=TARGET`` the loop stops at the first pass
+after which the estimated relative error of the image (:func:`relative_error`, from the
+spread between passes) is below TARGET, and with ``time_limit=SECONDS`` at the first pass
+boundary after that wall time; ``spp`` is then the most it renders.
+
 The local loop sums the passes in Dr.Jit (float64) and never imports numpy: a render's
 pixels stay a Dr.Jit tensor (:attr:`RenderResult.pixels`) until someone asks for the numpy
 array (:attr:`RenderResult.image`), so the command line starts as fast as ``mitsuba``.
@@ -37,6 +42,11 @@ PASS_SAMPLES = 2**22
 MAX_SPP_PER_PASS = 64
 _POLL_S = 0.02  # how often the distributed loop looks for finished passes
 _SEED_STRIDE = 0x9E3779B1  # golden-ratio stride: passes of nearby seeds never share seeds
+#: ``noise``: the estimate is trusted from this many passes on (the spread of fewer passes
+#: says little: its relative uncertainty is about 1 / sqrt(2 (passes - 1))).
+MIN_NOISE_PASSES = 8
+#: ``noise`` or ``time_limit`` without ``spp``: the most samples per pixel it renders.
+UNTIL_CLEAN_MAX_SPP = 2**16
 #: A render's seed is stored in its EXR header as a 32-bit integer.
 SEED_RANGE = (-(2**31), 2**31 - 1)
 
@@ -49,11 +59,15 @@ class RenderResult:
     ``image`` is the same pixels as a numpy float32 array, converted on first access.
     """
 
-    __slots__ = ("pixels", "spp", "passes", "seconds", "interrupted", "nonfinite", "_image")
+    __slots__ = ("pixels", "spp", "passes", "seconds", "interrupted", "nonfinite", "noise",
+                 "stopped_by", "_image")
 
     def __init__(self, pixels, spp: int, passes: int, seconds: float, interrupted: bool,
-                 nonfinite: int = 0):
+                 nonfinite: int = 0, noise: float | None = None, stopped_by: str = "spp"):
         self.pixels = pixels
+        # the estimated relative error (:func:`relative_error`) when the loop measured it
+        self.noise = noise
+        self.stopped_by = stopped_by  # what ended the loop: "spp", "noise", "time", "interrupt"
         self.spp = spp  # samples per pixel actually rendered (less than asked if interrupted)
         self.passes = passes
         self.seconds = seconds
@@ -165,28 +179,90 @@ def pass_sizes(spp: int, spp_per_pass: int) -> list[int]:
     return [spp_per_pass] * full + ([rest] if rest else [])
 
 
+def check_until_clean(noise: float | None, time_limit: float | None) -> None:
+    """ParameterError unless ``noise`` (a relative error) and ``time_limit`` (seconds) are
+    None or finite and positive (``noise`` below 1)."""
+    if noise is not None and not (isinstance(noise, (int, float)) and 0 < noise < 1):
+        raise ParameterError(f"render_passes: noise must be a relative error between 0 and 1, "
+                             f"exclusive (got {noise!r})")
+    if time_limit is not None and not (isinstance(time_limit, (int, float))
+                                       and 0 < time_limit < float("inf")):
+        raise ParameterError(f"render_passes: time_limit must be a positive number of seconds "
+                             f"(got {time_limit!r})")
+
+
+def relative_error(sum_w, sum_w2, done: int, passes: int):
+    """The estimated relative RMS error of the mean image, from the spread between passes.
+
+    Pass i holds n_i samples per pixel and has the image I_i; the render is the weighted
+    mean M = sum n_i I_i / N (N = sum n_i). With independent passes (distinct seeds), each
+    pixel value's per-sample variance is estimated without bias by
+    s^2 = sum n_i (I_i - M)^2 / (P - 1) = (sum n_i I_i^2 - N M^2) / (P - 1) over the P
+    passes, and the variance of M by s^2 / N. The image's relative error is the RMS of that
+    standard error over every pixel and channel against the RMS of the image:
+
+        e = sqrt(mean(s^2 / N)) / sqrt(mean(M^2)),
+
+    the estimate of ||M - R|| / ||R|| for the converged image R (checked against a reference
+    render in tests/cli/test_view_command.py). ``sum_w``, ``sum_w2``: the float64 sums
+    sum n_i I_i and sum n_i I_i^2, flat Dr.Jit arrays (the local loop) or numpy arrays (what
+    a distributed loop holds). Returns a Python float (inf with fewer than 2 passes or a
+    black image)."""
+    if passes < 2:
+        return float("inf")
+    mean = sum_w / done
+    if type(sum_w).__module__.startswith("drjit"):
+        import drjit as dr
+
+        spread = dr.maximum(sum_w2 - mean * sum_w, 0.0)  # sum n_i (I_i - M)^2
+        variance_of_mean = float(dr.sum(spread)[0]) / ((passes - 1) * done)
+        power = float(dr.sum(mean * mean)[0])
+    else:
+        import numpy as np
+
+        spread = np.maximum(sum_w2 - mean * sum_w, 0.0)
+        variance_of_mean = float(spread.sum()) / ((passes - 1) * done)
+        power = float((mean * mean).sum())
+    if not power > 0:
+        return float("inf")
+    return (variance_of_mean / power) ** 0.5
+
+
 def render_passes(
     scene,
-    spp: int,
+    spp: int | None = None,
     seed: int = 0,
     spp_per_pass: int | None = None,
     sensor: int = 0,
     integrator=None,
     on_pass: Callable[[int, int], None] | None = None,
+    noise: float | None = None,
+    time_limit: float | None = None,
+    on_noise: Callable[[float], None] | None = None,
 ) -> RenderResult:
     """Render ``scene`` with ``spp`` samples per pixel in passes of ``spp_per_pass`` (None:
     :func:`default_spp_per_pass`); see the module docstring. A count that is not a positive
     integer, a seed beyond 32 bits or a film too large (:mod:`spectrace.memory`) is a
     :class:`~spectrace.errors.ParameterError` naming it.
 
-    ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
+    ``noise``: stop at the first pass (from the :data:`MIN_NOISE_PASSES`-th on) after which
+    the estimated relative error (:func:`relative_error`) is below ``noise``;
+    ``time_limit``: stop at the first pass that ends after ``time_limit`` seconds. With
+    either, ``spp`` is the most it renders (None: :data:`UNTIL_CLEAN_MAX_SPP`); without,
+    None means the scene's sample count. ``on_pass(done_spp, total_spp)`` is called after
+    each pass (the CLI's progress bar), ``on_noise(estimate)`` too when ``noise`` is given.
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
     (H, W, C) tensor; NaN or infinite values (a plugin's bug) are set to 0 and counted in
-    ``RenderResult.nonfinite``.
+    ``RenderResult.nonfinite``; ``RenderResult.noise`` is the estimate when ``noise`` or
+    ``time_limit`` was given.
     """
     import drjit as dr
     import mitsuba as mi
 
+    check_until_clean(noise, time_limit)
+    until_clean = noise is not None or time_limit is not None
+    if spp is None:
+        spp = UNTIL_CLEAN_MAX_SPP if until_clean else scene_spp(scene, sensor)
     check_sample_counts(spp, spp_per_pass)  # before the default pass size reads them
     seed, spp = check_seed(seed), int(spp)
     spp_per_pass = None if spp_per_pass is None else int(spp_per_pass)
@@ -195,8 +271,11 @@ def render_passes(
 
     check_pass(scene, sizes[0], sensor)  # the film and a pass fit (32-bit arrays, memory)
     accum = None  # flat float64 sum of the passes weighted by their spp
+    accum2 = None  # with until_clean: the same sum of the squared pass images
     shape = None
     done = 0
+    estimate = None
+    stopped_by = "spp"
     start = time.perf_counter()
     with defer_sigint(stop_only=True) as stop:
         for index, n in enumerate(sizes):
@@ -207,13 +286,32 @@ def render_passes(
             if accum is None:
                 shape = tuple(img.shape)
                 accum = dr.opaque(mi.Float64, 0, dr.width(img.array))
+                if until_clean:
+                    accum2 = dr.opaque(mi.Float64, 0, dr.width(img.array))
             # an opaque weight: every pass (the remainder too) runs the same kernel
-            accum = accum + mi.Float64(img.array) * dr.opaque(mi.Float64, n)
-            dr.eval(accum)
+            weight = dr.opaque(mi.Float64, n)
+            value = mi.Float64(img.array)
+            accum = accum + value * weight
+            if until_clean:
+                accum2 = accum2 + value * value * weight
+                dr.eval(accum, accum2)
+            else:
+                dr.eval(accum)
             done += n
+            if until_clean:
+                estimate = relative_error(accum, accum2, done, index + 1)
+                if on_noise is not None and noise is not None:
+                    on_noise(estimate)
             if on_pass is not None:
                 on_pass(done, spp)
             if stop.seen:
+                stopped_by = "interrupt"
+                break
+            if noise is not None and index + 1 >= MIN_NOISE_PASSES and estimate < noise:
+                stopped_by = "noise"
+                break
+            if time_limit is not None and time.perf_counter() - start >= time_limit:
+                stopped_by = "time"
                 break
         interrupted = stop.seen and done < spp
     mean = mi.Float(accum / dr.opaque(mi.Float64, done))
@@ -223,7 +321,7 @@ def render_passes(
     nonfinite = int(dr.count(bad)[0])
     seconds = time.perf_counter() - start
     return RenderResult(mi.TensorXf(mean, shape), done, index + 1, seconds, interrupted,
-                        nonfinite)
+                        nonfinite, estimate, stopped_by)
 
 
 def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:

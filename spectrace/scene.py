@@ -243,7 +243,9 @@ def polarized_variant(variant: str, polarized: bool) -> str:
     for name in wanted:
         if name in mi.variants():
             return name
-    return "llvm_ad_spectral_polarized" if polarized else "llvm_ad_spectral"
+    from spectrace import DEFAULT_VARIANT
+
+    return f"{DEFAULT_VARIANT}_polarized" if polarized else DEFAULT_VARIANT
 
 
 def _variant_hint(message: str) -> str:

@@ -14,9 +14,13 @@ JCGT 10(3), 2021. The layout used here:
   change, so the preview is on the radiometric scale of the data; reflective: under D65,
   white = (1, 1, 1)).
 
-Written with the ``OpenEXR`` package (3.x ``OpenEXR.File`` API), atomically (a temporary file
-in the same folder renamed over the target). Read back by colour-science's
-``colour.io.read_spectral_image_Fichet2021`` (checked in tests/spectral/test_exr.py).
+Files are written and read by :mod:`spectrace.images` (the ``OpenEXR`` package, atomic
+writes); this module maps the layout's channel names to wavelengths. Read back by
+colour-science's ``colour.io.read_spectral_image_Fichet2021``, and its files read here
+(tests/spectral/test_spectral_exr.py). colour-science's reader and writer are not used at
+run time: they need OpenImageIO (a large binary package that spectrace uses only in tests)
+and colour-science's import (about 2 s), where OpenEXR, which every render already uses,
+does the same in a few lines.
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import FileAccessError, FileFormatError, SpectraceError
+from spectrace.errors import FileFormatError
 
 from .colorimetry import check_spd
 from .image import spectral_image_to_linear_srgb
@@ -97,12 +101,7 @@ def write_spectral_exr(
     if img.ndim != 3:
         raise ValueError(f"write_spectral_exr: image must have shape (H, W, N) (got {img.shape})")
     dtype = np.float16 if half else np.float32
-    import OpenEXR
-
-    channels = {
-        spectral_channel_name(w, kind): np.ascontiguousarray(img[..., i], dtype=dtype)
-        for i, w in enumerate(wl)
-    }
+    channels = {spectral_channel_name(w, kind): img[..., i] for i, w in enumerate(wl)}
     if isinstance(preview, bool):
         rgb = None
         if preview:
@@ -117,17 +116,15 @@ def write_spectral_exr(
             )
     if rgb is not None:
         for c, name in enumerate("RGB"):
-            channels[name] = np.ascontiguousarray(rgb[..., c], dtype=dtype)
-    header = {"spectralLayoutVersion": LAYOUT_VERSION, "compression": OpenEXR.ZIP_COMPRESSION}
+            channels[name] = rgb[..., c]
+    header = {"spectralLayoutVersion": LAYOUT_VERSION}
     if kind == "emissive":
         header["emissiveUnits"] = emissive_units
     header.update(attributes or {})
-    from spectrace.images import atomic_path
+    from spectrace.images import write_exr_channels
 
     path = Path(path)
-    with atomic_path(path) as tmp:  # temporary name, umask mode, renamed on success
-        with OpenEXR.File(header, channels) as f:
-            f.write(tmp)
+    write_exr_channels(path, channels, header, dtype=dtype)
     return path
 
 
@@ -138,30 +135,22 @@ def read_spectral_exr(path, kind: str | None = None, with_header: bool = False):
     "emissive" (``S0.*``), "reflective" (``T.*``) or None (emissive if present, else
     reflective). Polarised (S1-S3) and bispectral channels are ignored. With ``with_header``
     also returns the header dict. A missing or unreadable file, or one without spectral
-    channels, raises :class:`~spectrace.errors.SpectraceError` naming the path.
+    channels, raises :class:`~spectrace.errors.FileAccessError` or
+    :class:`~spectrace.errors.FileFormatError` naming the path.
     """
-    import OpenEXR
+    from spectrace.images import read_exr_channels
 
-    path = Path(path)
-    if not path.is_file():
-        raise FileAccessError(f"{path}: no such file")
-    try:
-        with OpenEXR.File(str(path), separate_channels=True) as f:
-            header = dict(f.header())
-            found = {}
-            for name, ch in f.channels().items():
-                parsed = _channel_to_nm(name)
-                if parsed is not None:
-                    found.setdefault(parsed[0], []).append((parsed[1], ch.pixels))
-    except SpectraceError:
-        raise
-    except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
-        raise FileFormatError(f"{path}: not a readable OpenEXR file ({e})") from None
+    channels, header = read_exr_channels(path)
+    found = {}
+    for name, pixels in channels.items():
+        parsed = _channel_to_nm(name)
+        if parsed is not None:
+            found.setdefault(parsed[0], []).append((parsed[1], pixels))
     prefixes = [KINDS[kind]] if kind is not None else ["S0", "T"]
     component = next((p for p in prefixes if p in found), None)
     if component is None:
-        raise FileFormatError(
-            f"{path}: no spectral channels ({' or '.join(p + '.*' for p in prefixes)})")
+        wanted = " or ".join(p + ".*" for p in prefixes)
+        raise FileFormatError(f"{path}: no spectral channels ({wanted})")
     entries = sorted(found[component], key=lambda e: e[0])
     wavelengths = np.array([e[0] for e in entries])
     image = np.stack([np.asarray(e[1], np.float32) for e in entries], axis=-1)

@@ -89,6 +89,7 @@ from typing import TYPE_CHECKING
 
 import drjit as dr
 import mitsuba as mi
+from spectrace.spectral import srgb
 
 from spectrace.errors import ParameterError
 
@@ -101,7 +102,7 @@ KM = 683.0
 #: Mitsuba's spectral range.
 GRID_NM = (360, 830)
 #: Rec. 709 luminance weights of linear R, G, B (IEC 61966-2-1), as ``mi.luminance``.
-LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
+LUMINANCE_WEIGHTS = srgb.LUMINANCE_WEIGHTS
 PHOTOPIC = "CIE 1924 Photopic Standard Observer"
 
 

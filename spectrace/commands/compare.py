@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import DEFAULT_VARIANT
-from spectrace.commands import add_verbose
+from spectrace.commands import add_display_options, add_verbose, display_settings
 from spectrace.errors import UsageError
 
 SCENE_SUFFIXES = (".xml",)
@@ -43,6 +43,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default="out/compare.png",
                         help="side-by-side PNG (default out/compare.png)")
     add_verbose(parser)
+    add_display_options(parser, views=False)
+    parser.add_argument("--view", default="standard", choices=("standard", "aces", "neutral"),
+                        help="view transform of both sides before the comparison (default "
+                        "standard: the clip)")
 
 
 class _SideDefine(argparse.Action):
@@ -130,9 +134,17 @@ def run(args) -> int:
     out = Path(args.output)
     if out.suffix.lower() != ".png":
         raise UsageError(f"output {out}: must end in .png")
+    settings = display_settings(args)
     check_writable(out)
     a, b, label_a, label_b = inputs(args)
     from spectrace.comparison import compare_images, write_figure
+
+    if not settings.is_default:  # exposure, white balance, view: the same for both sides
+        from spectrace.display import develop_pair
+
+        a, b, notes = develop_pair(a, b, settings)
+        for note in notes:
+            print(note)
 
     comparison = compare_images(a, b)
     write_figure(out, comparison, label_a, label_b)

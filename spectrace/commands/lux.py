@@ -11,7 +11,12 @@ import re
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options, check_render_options, progress_bar
+from spectrace.commands import (
+    EXIT_INTERRUPTED,
+    add_render_options,
+    check_render_options,
+    progress_bar,
+)
 from spectrace.errors import SpectraceError, UsageError
 from spectrace.passes import scene_spp
 
@@ -145,7 +150,7 @@ def run_map(args) -> int:
             print(line)
     if luxmap.interrupted:
         print(f"interrupted: saved {luxmap.spp} of {spp} spp", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     return 0
 
 

@@ -14,7 +14,14 @@ import os
 import sys
 from pathlib import Path
 
-from spectrace.commands import add_render_options, check_render_options, progress_bar
+from spectrace.commands import (
+    EXIT_INTERRUPTED,
+    add_display_options,
+    add_render_options,
+    check_render_options,
+    display_settings,
+    progress_bar,
+)
 from spectrace.errors import UsageError
 from spectrace.memory import check_pass
 from spectrace.passes import scene_spp, scene_spp_per_pass
@@ -28,8 +35,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "process (plugins registered once, kernels reused)")
     parser.add_argument("-o", "--output", help="output EXR (default: out/<scene>.exr), or a "
                         "folder (FOLDER/) for <scene>.exr there, which several scenes need; "
-                        "an sRGB PNG is written beside each EXR")
+                        "an sRGB PNG is written beside each EXR (-o OUT.png: the PNG, and the "
+                        "EXR beside it)")
     add_render_options(parser)
+    parser.add_argument("-t", "--threads", type=int, metavar="N",
+                        help="render with N threads (default: one per core)")
+    parser.add_argument("--noise", type=float, metavar="TARGET",
+                        help="render until the estimated relative error of the image (from "
+                        "the spread between passes) is below TARGET, e.g. 0.01; --spp is then "
+                        "the most it renders")
+    parser.add_argument("--denoise", action="store_true",
+                        help="also write OUT.denoised.exr (Intel Open Image Denoise with albedo "
+                        "and normal buffers; needs pyoidn) and make the PNG from it; OUT.exr "
+                        "stays the noisy render")
+    parser.add_argument("--time", type=float, metavar="SECONDS",
+                        help="stop at the first pass that ends after SECONDS; --spp is then "
+                        "the most it renders")
     parser.add_argument("--film", choices=FILMS, default="rgb",
                         help="rgb: the scene's film; spectral: N bands, also OUT.spectral.exr")
     parser.add_argument("--bands", type=int, default=None,
@@ -42,13 +63,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="render the passes on the Dask cluster of this scheduler "
                        "(tcp://host:8786); workers read the scene at the same path")
+    add_display_options(parser)
 
 
 def _is_folder(output: str) -> bool:
     return output.endswith(("/", os.sep)) or Path(output).is_dir()
 
 
-def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dict[str, Path]]:
+def scene_outputs(scenes: list[Path], output: str | None, film: str,
+                  denoise: bool = False, display_exr: bool = False) -> list[dict[str, Path]]:
     """The files of each scene: -o OUT.exr for one scene, -o FOLDER/ for any number."""
     if output is not None and _is_folder(output):
         outs = [str(Path(output) / f"{s.stem}.exr") for s in scenes]
@@ -57,7 +80,8 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
                          "(end it with /)")
     else:
         outs = [output] * len(scenes)
-    paths = [output_paths(s, o, film) for s, o in zip(scenes, outs, strict=True)]
+    paths = [output_paths(s, o, film, denoise, display_exr)
+             for s, o in zip(scenes, outs, strict=True)]
     seen: dict[Path, Path] = {}
     for scene, p in zip(scenes, paths, strict=True):
         if p["exr"] in seen:
@@ -66,12 +90,21 @@ def scene_outputs(scenes: list[Path], output: str | None, film: str) -> list[dic
     return paths
 
 
-def output_paths(scene: Path, output: str | None, film: str) -> dict[str, Path]:
+def output_paths(scene: Path, output: str | None, film: str,
+                 denoise: bool = False, display_exr: bool = False) -> dict[str, Path]:
     """The files a render writes: EXR, PNG beside it, and the spectral EXR for that film."""
     exr = Path(output) if output else Path("out") / f"{scene.stem}.exr"
+    png = exr.with_suffix(".png")
+    if exr.suffix.lower() == ".png":
+        exr, png = exr.with_suffix(".exr"), exr
     if exr.suffix.lower() != ".exr":
-        raise UsageError(f"output {exr}: must end in .exr (the PNG is written beside it)")
-    paths = {"exr": exr, "png": exr.with_suffix(".png")}
+        raise UsageError(f"output {exr}: must end in .exr or .png (the other is written "
+                         "beside it)")
+    paths = {"exr": exr, "png": png}
+    if denoise:
+        paths["denoised"] = exr.with_suffix(".denoised.exr")
+    if display_exr:
+        paths["display"] = exr.with_suffix(".display.exr")
     if film == "spectral":
         paths["spectral"] = exr.with_suffix(".spectral.exr")
     return paths
@@ -95,7 +128,20 @@ def run(args) -> int:
         raise UsageError("--bands applies only with --film spectral")
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
-    all_paths = scene_outputs(scene_paths, args.output, args.film)
+    _check_run_options(args)
+    display_settings(args)  # a bad display option costs no render
+    if args.denoise:
+        if args.film == "spectral":
+            raise UsageError("--denoise works with --film rgb")
+        from spectrace.denoise import check_denoiser
+        from spectrace.errors import ParameterError
+
+        try:
+            check_denoiser()
+        except ParameterError as e:
+            raise UsageError(f"--denoise: {e}") from None
+    all_paths = scene_outputs(scene_paths, args.output, args.film, args.denoise,
+                              args.display_exr)
 
     from spectrace.scene import load_scene, parse_defines, read_scene_xml
 
@@ -104,6 +150,10 @@ def run(args) -> int:
     import spectrace
 
     spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
+    if args.threads is not None:
+        import drjit as dr
+
+        dr.set_thread_count(args.threads)  # spectrace.images writes with 2 or more
     loaded = []  # every scene loads before anything renders: a bad one costs no output
     for scene_path, root in zip(scene_paths, roots, strict=True):
         wavelengths = None
@@ -116,7 +166,7 @@ def run(args) -> int:
             scene = load_scene(scene_path, params)
         check_pass(scene, scene_spp_per_pass(scene, args.spp or scene_spp(scene),
                                              args.spp_per_pass), name="--spp-per-pass")
-        loaded.append((scene, wavelengths))
+        loaded.append((scene, wavelengths, _photometric(root)))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         client = None
@@ -128,9 +178,11 @@ def run(args) -> int:
         for paths in all_paths:  # before rendering: a bad output path costs no render time
             for p in paths.values():
                 check_writable(p)
-        for scene_path, (scene, wavelengths), paths in zip(scene_paths, loaded, all_paths,
-                                                            strict=True):
-            code = _render_one(scene_path, scene, wavelengths, paths, params, args, client)
+        for scene_path, (scene, wavelengths, photometric), paths in zip(
+                scene_paths, loaded, all_paths, strict=True):
+            settings = display_settings(args, photometric)
+            code = _render_one(scene_path, scene, wavelengths, paths, params, args, client,
+                               settings)
             if code:
                 return code
     if len(scene_paths) > 1:
@@ -138,28 +190,68 @@ def run(args) -> int:
     return 0
 
 
-def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> int:
-    spp = args.spp or scene_spp(scene)
+def _check_run_options(args) -> None:
+    """--threads, --noise and --time: positive (UsageError naming the flag)."""
+    import math
+
+    if args.threads is not None and args.threads < 1:
+        raise UsageError(f"-t/--threads must be a positive integer (got {args.threads})")
+    if args.noise is not None and not 0 < args.noise < 1:  # NaN fails too
+        raise UsageError(f"--noise must be a relative error between 0 and 1, exclusive "
+                         f"(got {args.noise})")
+    if args.time is not None and not (0 < args.time and math.isfinite(args.time)):
+        raise UsageError(f"--time must be a positive number of seconds (got {args.time})")
+    if (args.noise is not None or args.time is not None) and (args.workers or args.scheduler):
+        raise UsageError("--noise and --time work with the local pass loop only (not with "
+                         "--workers or --scheduler)")
+
+
+def _photometric(root) -> bool:
+    from spectrace.display_options import photometric_scene
+
+    return photometric_scene(root)
+
+
+def _render_one(scene_path, scene, wavelengths, paths, params, args, client, settings) -> int:
+    until_clean = args.noise is not None or args.time is not None
+    if until_clean:
+        from spectrace.passes import UNTIL_CLEAN_MAX_SPP
+
+        spp = args.spp or UNTIL_CLEAN_MAX_SPP
+    else:
+        spp = args.spp or scene_spp(scene)
     where = ""
     if client is not None:
         where = f", {len(client.scheduler_info(n_workers=-1)['workers'])} workers"
-    print(f"rendering {scene_path.name}: {spp} spp, {args.variant}, seed {args.seed}{where}",
+    goal = f"{spp} spp"
+    if until_clean:
+        stops = [f"error < {args.noise:g}"] if args.noise is not None else []
+        stops += [f"{args.time:g} s"] if args.time is not None else []
+        goal = f"until {' or '.join(stops)} (at most {spp} spp)"
+    print(f"rendering {scene_path.name}: {goal}, {args.variant}, seed {args.seed}{where}",
           file=sys.stderr, flush=True)
     result = _render_with_progress(scene, spp, args, client, scene_path, params)
     if result.spp == 0:
         print("interrupted before the first pass finished: nothing written", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     if result.nonfinite:
         print(f"warning: {result.nonfinite} pixel values were NaN or infinite and were set to 0",
               file=sys.stderr)
-    _write_outputs(result, paths, wavelengths, args, scene_path)
+    notes = _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene)
     rate = result.samples_per_second
     passes = f"{result.passes} pass{'' if result.passes == 1 else 'es'}"
     print(f"{scene_path.name}: {result.spp} spp in {passes}, {result.seconds:.2f} s, "
           f"{rate / 1e6:.2f} M samples/s -> {paths['exr']}", flush=True)
+    if "denoised" in paths:
+        print(f"denoised (Open Image Denoise) -> {paths['denoised']}, {paths['png']}")
+    if getattr(result, "noise", None) is not None:
+        estimate = f"{result.noise:.4f}" if result.noise < float("inf") else "unknown (1 pass)"
+        print(f"estimated relative error {estimate}, stopped by {result.stopped_by}")
+    for note in notes:
+        print(note)
     if result.interrupted:
         print(f"interrupted: saved {result.spp} of {spp} spp", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     return 0
 
 
@@ -167,6 +259,12 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
     from spectrace.passes import render_passes
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
+        if args.noise is not None or args.time is not None:
+            from spectrace.passes import render_passes
+
+            return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
+                                 on_pass=on_pass, noise=args.noise, time_limit=args.time,
+                                 on_noise=lambda e: on_pass.describe(f"error {e:.4f}"))
         if client is not None:
             from spectrace.cluster import SceneSpec
             from spectrace.passes import render_passes_distributed, scene_spp_per_pass
@@ -180,7 +278,10 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
                              on_pass=on_pass)
 
 
-def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
+def _write_outputs(result, paths, wavelengths, args, scene_path, settings,
+                   scene=None) -> tuple[str, ...]:
+    """Write the EXR (and the spectral EXR, the denoised EXR), then the PNG through the
+    display pipeline; returns the pipeline's notes (the exposure used)."""
     from spectrace.images import write_exr, write_png
 
     header = {
@@ -190,6 +291,8 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         "scene": os.path.abspath(scene_path),
         "film": args.film,
     }
+    if getattr(result, "noise", None) is not None and result.noise < float("inf"):
+        header["noise"] = float(result.noise)  # the estimated relative error
     rgb = result.pixels  # a Dr.Jit tensor from the local loop: written by mi.Bitmap
     if wavelengths is not None:
         from spectrace.spectral import write_spectral_exr
@@ -200,4 +303,20 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
                            attributes=header)
     write_exr(paths["exr"], rgb, header)
-    write_png(paths["png"], rgb)
+    if "denoised" in paths:  # a picture: the noisy EXR above is the measurement
+        import numpy as np
+
+        from spectrace.denoise import denoise_image, render_features
+
+        albedo, normal = render_features(scene, result.spp, seed=args.seed)
+        rgb = denoise_image(np.asarray(rgb, np.float32), albedo, normal)
+        write_exr(paths["denoised"], rgb, {**header, "denoiser": "Open Image Denoise RT"})
+    if settings.is_default and "display" not in paths:  # the plain PNG (a tensor: mi.Bitmap)
+        write_png(paths["png"], rgb)
+        return ()
+    import numpy as np
+
+    from spectrace.display import write_display_png
+
+    return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings,
+                             paths.get("display")).notes

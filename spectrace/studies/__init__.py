@@ -12,6 +12,8 @@ tested (``tests/studies/``) and shared:
 * :mod:`spectrace.studies.photometry`: the luminaires' polar diagrams, the room's lux map
   on the work plane against the point-by-point hand calculation, uniformity and the
   utilisation factor, the room under a warm LED spectrally and in RGB (``photometry.ipynb``).
+* :mod:`spectrace.studies.pictures`: the display chain on one spectral render: gamut,
+  view transforms, white balance (``pictures.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what

@@ -370,8 +370,8 @@ def glass_transmittance(settings: Settings) -> Result:
     import mitsuba as mi
 
     import spectrace
-    from spectrace.scene import polarized_variant
     from spectrace.lighting.luminance import luminance_along
+    from spectrace.scene import polarized_variant
 
     angles = np.arange(0.0, 80.001, 20.0 if settings.quick else 10.0)
     t = np.radians(angles)

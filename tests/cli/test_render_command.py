@@ -159,8 +159,9 @@ def test_unwritable_output(tmp_path, capsys):
     assert_one_line_error(capsys, "cannot write output")
 
 
-def test_output_must_be_exr(tmp_path, capsys):
-    code = main(["render", str(SHOWCASE), "-o", str(tmp_path / "o.png"), "-q"])
+def test_output_must_be_exr_or_png(tmp_path, capsys):
+    """-o takes .exr or .png (issue 19: the other is written beside it), nothing else."""
+    code = main(["render", str(SHOWCASE), "-o", str(tmp_path / "o.jpg"), "-q"])
     assert code == EXIT_USAGE
     assert_one_line_error(capsys, ".exr")
 
