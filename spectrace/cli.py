@@ -30,6 +30,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "help": ("spectrace.commands.help", "a plugin's reference page (help phong), or the list"),
     "lux": ("spectrace.commands.lux",
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
+    "relight": ("spectrace.commands.relight",
+                "new light intensities from the light-group layers of a render"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
 }

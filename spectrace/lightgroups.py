@@ -160,17 +160,26 @@ def format_groups(groups: Mapping[str, list[str]]) -> str:
     return ";".join(f"{k}={','.join(v)}" for k, v in groups.items())
 
 
-def integrator_for(scene, light_groups, integrator=None):
+def integrator_for(scene, light_groups, integrator=None, sensor=0):
     """A ``lightgroups`` integrator for ``scene`` in place of ``integrator`` (default the
     scene's), with the groups :func:`resolve_groups` makes; ParameterError for an
-    integrator it does not replace (see the module docstring)."""
+    integrator it does not replace (see the module docstring) and for a film with a sensor
+    response (``specfilm``: spectral layers are not supported yet)."""
     import mitsuba as mi
 
     from spectrace import registry
 
     integrator = scene.integrator() if integrator is None else integrator
+    film = (scene.sensors()[sensor] if isinstance(sensor, int) else sensor).film()
+    if film.sensor_response_function() is not None:
+        raise ParameterError(f"light groups: the film {film.class_name()} has a sensor "
+                             "response (a spectral film); light-group layers need an RGB "
+                             "film (hdrfilm)")
     kind = integrator.class_name()
+    if kind == "SamplingIntegrator":  # a Python integrator: its class
+        kind = type(integrator).__name__
     if kind == "LightGroups":
+        emitter_group_indices(scene, integrator.groups)
         return integrator
     if kind not in REPLACED_INTEGRATORS:
         raise ParameterError(f"light groups need the scene's integrator to be 'path' or "

@@ -49,7 +49,8 @@ class RenderResult:
     ``image`` is the same pixels as a numpy float32 array, converted on first access.
     """
 
-    __slots__ = ("pixels", "spp", "passes", "seconds", "interrupted", "nonfinite", "_image")
+    __slots__ = ("pixels", "spp", "passes", "seconds", "interrupted", "nonfinite", "_image",
+                 "light_groups")
 
     def __init__(self, pixels, spp: int, passes: int, seconds: float, interrupted: bool,
                  nonfinite: int = 0):
@@ -60,6 +61,7 @@ class RenderResult:
         self.interrupted = interrupted
         self.nonfinite = nonfinite  # pixel values that were NaN or infinite, set to 0
         self._image = None
+        self.light_groups = None  # the group names of a light-group render (layers last)
 
     @property
     def image(self):
@@ -159,9 +161,15 @@ def render_passes(
     sensor: int = 0,
     integrator=None,
     on_pass: Callable[[int, int], None] | None = None,
+    light_groups=None,
 ) -> RenderResult:
     """Render ``scene`` with ``spp`` samples per pixel in passes of ``spp_per_pass`` (None:
     :func:`default_spp_per_pass`); see the module docstring.
+
+    ``light_groups`` (True, ``{name: [emitter ids]}`` or ``["name=id1,id2", ...]``) renders
+    with the ``lightgroups`` integrator in place of ``integrator`` (see
+    :mod:`spectrace.lightgroups`): the pixels then end with three channels per group, whose
+    names are the result's ``light_groups`` (:func:`spectrace.lightgroups.split`).
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
@@ -172,6 +180,10 @@ def render_passes(
     import mitsuba as mi
 
     sizes = pass_sizes(spp, scene_spp_per_pass(scene, spp, spp_per_pass, sensor))
+    if light_groups is not None:
+        from spectrace.lightgroups import integrator_for
+
+        integrator = integrator_for(scene, light_groups, integrator, sensor)
     accum = None  # flat float64 sum of the passes weighted by their spp
     shape = None
     done = 0
@@ -200,8 +212,11 @@ def render_passes(
     dr.eval(mean, bad)  # one kernel; ``seconds`` includes it
     nonfinite = int(dr.count(bad)[0])
     seconds = time.perf_counter() - start
-    return RenderResult(mi.TensorXf(mean, shape), done, index + 1, seconds, interrupted,
-                        nonfinite)
+    result = RenderResult(mi.TensorXf(mean, shape), done, index + 1, seconds, interrupted,
+                          nonfinite)
+    if light_groups is not None:
+        result.light_groups = list(integrator.names)
+    return result
 
 
 def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:

@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 from spectrace.commands import add_render_options, progress_bar
-from spectrace.errors import UserError
+from spectrace.errors import UsageError, UserError
 from spectrace.passes import check_sample_counts, check_seed, scene_spp
 
 FILMS = ("rgb", "spectral")
@@ -35,6 +35,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"spectral bands over 400-700 nm with --film spectral "
                         f"(default {DEFAULT_BANDS})")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    groups = parser.add_mutually_exclusive_group()
+    groups.add_argument("--light-groups", action="store_true",
+                        help="also write one layer per emitter (<id>.R/G/B in the EXR; "
+                        "the scene's integrator must be path or direct)")
+    groups.add_argument("--light-group", action="append", metavar="NAME=ID1,ID2",
+                        dest="light_group", help="a layer NAME of these emitters (repeat "
+                        "the option for more; emitters in no group form the group 'rest')")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
                        help="render the passes on a local Dask cluster of N worker processes")
@@ -93,6 +100,13 @@ def run(args) -> int:
             raise UserError(f"--film spectral needs a spectral variant (got {args.variant})")
     elif args.bands is not None:
         raise UserError("--bands applies only with --film spectral")
+    light_groups = _light_groups(args)
+    if light_groups is not None and (args.workers is not None or args.scheduler):
+        raise UsageError("--light-groups/--light-group: not supported with --workers or "
+                         "--scheduler yet")
+    if light_groups is not None and args.film == "spectral":
+        raise UsageError("--light-groups/--light-group: spectral layers (--film spectral) "
+                         "are not supported yet")
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers must be a positive integer (got {args.workers})")
     all_paths = scene_outputs(scene_paths, args.output, args.film)
@@ -114,6 +128,10 @@ def run(args) -> int:
             scene = load_scene(scene_path, params, root=root)
         else:
             scene = load_scene(scene_path, params)
+        if light_groups is not None:  # a bad group costs no render
+            from spectrace.lightgroups import integrator_for
+
+            integrator_for(scene, light_groups)
         loaded.append((scene, wavelengths))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
@@ -175,7 +193,7 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
             return render_passes_distributed(client, spec, spp, seed=args.seed,
                                              spp_per_pass=per_pass, on_pass=on_pass)
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
-                             on_pass=on_pass)
+                             on_pass=on_pass, light_groups=_light_groups(args))
 
 
 def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
@@ -197,5 +215,18 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         rgb = bands_to_linear_srgb(bands, wavelengths)
         write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
                            attributes=header)
-    write_exr(paths["exr"], rgb, header)
+    if result.light_groups is not None:
+        from spectrace.lightgroups import split, write_layers_exr
+
+        rgb, layers = split(result.image, result.light_groups)
+        write_layers_exr(paths["exr"], rgb, layers, header)
+    else:
+        write_exr(paths["exr"], rgb, header)
     write_png(paths["png"], rgb)
+
+
+def _light_groups(args):
+    """``light_groups`` of :func:`spectrace.render` from --light-groups / --light-group."""
+    if args.light_groups:
+        return True
+    return args.light_group
