@@ -8,8 +8,8 @@ scene's, writes and reads the layered EXR and recombines the layers with new int
 Groups
 ------
 * ``True`` (``--light-groups``): one group per emitter, named after it (:func:`emitter_names`:
-  its ``id``; ``emitter<k>`` for an emitter without one, ``environment`` for an environment
-  emitter without one);
+  its ``id``; ``emitter<k>`` for an emitter without one (k its index in
+  ``scene.emitters()``), ``environment`` for an environment emitter without one);
 * a mapping ``{name: [emitter names]}`` or a list of ``"name=id1,id2"`` strings
   (``--light-group``): those groups; emitters in none of them form one more group,
   :data:`REST_GROUP`, so that the layers always sum to the beauty image.
@@ -105,13 +105,15 @@ def make_groups(items: Iterable[str] | Mapping[str, Iterable[str]]) -> dict[str,
 
 
 def emitter_names(scene) -> list[str]:
-    """The name of each of ``scene.emitters()``: its ``id``, else ``environment`` for the
-    scene's environment emitter, else ``emitter<k>`` (k its index)."""
+    """The name of each of ``scene.emitters()``: its ``id``; for an emitter without one, or
+    whose ``id`` another emitter shares (``mi.load_dict`` names every nested area emitter
+    ``emitter``), ``environment`` for the scene's environment emitter, else ``emitter<k>``
+    (k its index)."""
     env = scene.environment()
+    ids = [e.id() for e in scene.emitters()]
     names = []
-    for k, e in enumerate(scene.emitters()):
-        name = e.id()
-        if not name or name.startswith("_unnamed"):
+    for k, (e, name) in enumerate(zip(scene.emitters(), ids, strict=True)):
+        if not name or name.startswith("_unnamed") or ids.count(name) > 1:
             name = ENVIRONMENT if env is not None and e == env else f"emitter{k}"
         names.append(name)
     return names

@@ -177,7 +177,7 @@ def test_register_names_registers_only_those(variant_rgb):
     assert plugins.register({"phong"}, force=True) == ["phong"]
     assert plugins.register({"path", "diffuse"}) == []
     assert set(plugins.PLUGINS) == {"phong", "blinnphong", "pointlight", "spotlight",
-                                    "ieslight", "local", "illuminance"}
+                                    "ieslight", "local", "illuminance", "lightgroups"}
 
 
 def test_plugin_modules_are_named_after_their_xml_type():
