@@ -171,6 +171,9 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0):
 
     from spectrace import registry
 
+    if mi.is_polarized:
+        raise ParameterError(f"light groups: polarized variants are not supported (variant "
+                             f"{mi.variant()})")
     integrator = scene.integrator() if integrator is None else integrator
     film = (scene.sensors()[sensor] if isinstance(sensor, int) else sensor).film()
     if film.sensor_response_function() is not None:

@@ -1,0 +1,122 @@
+"""``spectrace render --light-groups`` / ``--light-group`` and ``spectrace relight`` end to
+end: the layered EXR, relighting, and bad input (one line, exit 2, nothing written)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectrace import lightgroups
+from spectrace.cli import main
+from spectrace.images import read_exr
+
+ROOT = Path(__file__).resolve().parents[2]
+SHOWCASE = ROOT / "scenes" / "showcase.xml"
+TINY = ["-D", "res=16", "--spp", "4", "-q", "--variant", "llvm_ad_rgb"]
+EXIT_USAGE = 2
+#: Layers against the beauty of the same render, float32 (relative to the largest value).
+SUM_RTOL = 1e-5
+SHOWCASE_GROUPS = ["emitter0", "emitter1", "environment"]  # point, spot, sky: no ids
+
+
+def assert_one_line_error(capsys, *words):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err and err[-1].startswith("error: "), err
+    assert "Traceback" not in "\n".join(err)
+    for word in words:
+        assert word in err[-1], (word, err[-1])
+
+
+@pytest.fixture
+def layered(tmp_path):
+    out = tmp_path / "layers.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(out), "--light-groups", *TINY]) == 0
+    return out
+
+
+def test_render_writes_beauty_and_one_layer_per_emitter(layered):
+    """--light-groups: R, G, B as without it, plus <group>.R/G/B per emitter (unnamed ones
+    emitter<k>, the sky 'environment'), summing to the beauty; the PNG beside it."""
+    beauty, layers, header = lightgroups.read_layers_exr(layered)
+    assert list(layers) == SHOWCASE_GROUPS and header["spp"] == 4
+    np.testing.assert_allclose(sum(layers.values()), beauty, rtol=0,
+                               atol=SUM_RTOL * beauty.max())
+    np.testing.assert_array_equal(read_exr(layered)[0], beauty)  # the usual RGB reader
+    assert layered.with_suffix(".png").is_file()
+
+
+def test_named_groups_on_the_command_line(tmp_path):
+    """--light-group NAME=ids (repeated); the emitters in none form 'rest'."""
+    out = tmp_path / "g.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(out), *TINY,
+                 "--light-group", "lamps=emitter0,emitter1"]) == 0
+    assert list(lightgroups.read_layers_exr(out)[1]) == ["lamps", "rest"]
+
+
+def test_relight_dims_one_layer(layered, tmp_path, capsys):
+    """-L emitter1=0.3: the beauty becomes the other layers plus 30 % of that one; the
+    output holds the scaled layers (it can be relit again) and a PNG."""
+    out = tmp_path / "relit.exr"
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(out)]) == 0
+    assert "relit 3 layers" in capsys.readouterr().out
+    _, layers, _ = lightgroups.read_layers_exr(layered)
+    image, scaled, header = lightgroups.read_layers_exr(out)
+    expected = layers["emitter0"] + 0.3 * layers["emitter1"] + layers["environment"]
+    np.testing.assert_allclose(image, expected, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(scaled["emitter1"], 0.3 * layers["emitter1"], rtol=1e-6)
+    assert header["relight"] == "emitter1=0.3"
+    assert out.with_suffix(".png").is_file()
+
+
+@pytest.mark.parametrize(("light", "words"), [
+    ("nope=0.5", "no light group 'nope'"),
+    ("emitter1=-0.5", "'emitter1' must be a finite number >= 0"),
+    ("emitter1=nan", "'emitter1' must be"),
+    ("emitter1=1,FL2", "a new spectrum needs spectral layers"),
+])
+def test_relight_bad_input_writes_nothing(layered, tmp_path, capsys, light, words):
+    """A group not in the file, a scale < 0 or NaN, a spectrum for RGB layers: one line
+    naming it, exit 2, no output."""
+    out = tmp_path / "bad.exr"
+    assert main(["relight", str(layered), "-L", light, "-o", str(out)]) == EXIT_USAGE
+    assert_one_line_error(capsys, words)
+    assert not out.exists() and not out.with_suffix(".png").exists()
+
+
+def test_relight_of_a_file_without_layers(tmp_path, capsys):
+    """A plain render has no layers: one line naming the file, exit 2."""
+    plain = tmp_path / "plain.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(plain), *TINY]) == 0
+    capsys.readouterr()
+    assert main(["relight", str(plain), "-L", "x=1", "-o", str(tmp_path / "o.exr")]) == 2
+    assert_one_line_error(capsys, "plain.exr", "no light-group layers")
+
+
+@pytest.mark.parametrize(("options", "words"), [
+    (["--light-group", "key=emitter0,lamp9"], "no emitter 'lamp9'"),
+    (["--light-group", "a=emitter0", "--light-group", "b=emitter0"],
+     "'emitter0' is in two light groups"),
+    (["--light-group", "a.b=emitter0"], "letters, digits"),
+    (["--light-groups", "--workers", "1"], "--workers"),
+    (["--light-groups", "--film", "spectral", "--variant", "llvm_ad_spectral"],
+     "spectral layers"),
+])
+def test_render_bad_groups_write_nothing(tmp_path, capsys, options, words):
+    """An unknown emitter id, the same emitter in two groups, a bad group name, options
+    light groups do not support yet: one line naming it, exit 2, nothing written."""
+    out = tmp_path / "x.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(out), *TINY, *options]) == EXIT_USAGE
+    assert_one_line_error(capsys, words)
+    assert not out.exists() and not out.with_suffix(".png").exists()
+
+
+def test_render_refuses_integrators_it_cannot_split(tmp_path, capsys):
+    """A scene of the local integrator: light groups refused naming the integrator."""
+    out = tmp_path / "x.exr"
+    code = main(["render", str(ROOT / "scenes" / "falloff_laws.xml"), "-o", str(out),
+                 "--spp", "1", "-q", "--variant", "llvm_ad_rgb", "--light-groups"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "'path' or 'direct'", "Local")
+    assert not out.exists()
