@@ -79,8 +79,9 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
-from spectrace import lightgroups
 from spectrace.plugins import params
+
+from spectrace import lightgroups
 
 PLUGIN = "lightgroups"
 #: Russian roulette keeps a path with at most this probability (Mitsuba's ``path``).

@@ -54,6 +54,6 @@ def run(args) -> int:
     header["relight"] = ";".join(f"{g}={s:g}" for g, s in scales.items())
     lightgroups.write_layers_exr(out, image, scaled, header)
     write_png(png, image)
-    print(f"relit {len(layers)} layers ({', '.join(f'{g} x{scales.get(g, 1.0):g}' for g in layers)}) "
-          f"in {seconds * 1e3:.0f} ms -> {out}")
+    factors = ", ".join(f"{g} x{scales.get(g, 1.0):g}" for g in layers)
+    print(f"relit {len(layers)} layers ({factors}) in {seconds * 1e3:.0f} ms -> {out}")
     return 0

@@ -64,10 +64,11 @@ def make_scene(case: str, spot_scale: float = 1.0, **integrator) -> mi.Scene:
             "bulb": {"type": "pointlight", "position": [0.5, 2.0, -1.5], "intensity": 3.0},
         },
         "area": {
-            "panel_shape": {"type": "rectangle", "to_world": _look_at([0, 3, 0], [0, 0, 0], [0, 0, 1])
-                      @ mi.ScalarTransform4f().scale(0.8),
-                      "emitter": {"type": "area", "id": "panel",
-                                  "radiance": {"type": "rgb", "value": [6, 5, 4]}}},
+            "panel_shape": {"type": "rectangle",
+                            "to_world": _look_at([0, 3, 0], [0, 0, 0], [0, 0, 1])
+                            @ mi.ScalarTransform4f().scale(0.8),
+                            "emitter": {"type": "area", "id": "panel",
+                                        "radiance": {"type": "rgb", "value": [6, 5, 4]}}},
             "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.2, 0.3, 0.5]}},
         },
         "envmap": {
