@@ -56,10 +56,14 @@ sensor response), then ``mi.spectrum_to_srgb`` (CIE 1931 XYZ -> linear sRGB) on 
 sample's wavelengths. Mono variants: R = G = B = the
 luminance. Polarized variants are refused (the throughput would be a Mueller matrix).
 
-Sources: Veach (1997), *Robust Monte Carlo Methods for Light Transport Simulation*, ch. 9
-(MIS, power heuristic); Mitsuba 3's ``path`` (C++) and ``prb`` (Python) integrators, whose
-sampling decisions this one repeats (so its beauty equals ``path``'s in expectation; the
-sample sequences differ, so the images differ by Monte Carlo noise only).
+Sources
+-------
+
+Veach (1997), *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis,
+Stanford, ch. 9 (MIS, power heuristic); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3:
+its ``path`` (C++) and ``prb`` (Python) integrators, whose sampling decisions this one
+repeats in the same order, so its beauty equals ``path``'s in expectation (and, with the
+same seed, up to float rounding in the scenes tested).
 
 Example
 -------

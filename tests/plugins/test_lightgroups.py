@@ -156,6 +156,18 @@ def test_layers_sum_to_beauty_and_beauty_is_path(variant, case, params):
     assert_matches_path(mine, ref)
 
 
+@pytest.mark.parametrize(("case", "params"), CASES)
+def test_same_seed_traces_the_same_paths_as_path(variant, case, params):
+    """The integrator draws its samples in the order of Mitsuba 3.9's ``path`` (light
+    sample, BSDF sample, roulette), so with the same seed it traces the same paths and its
+    beauty equals ``path``'s pixel by pixel up to float rounding: a stronger check than
+    agreement within noise (any difference in a decision shows)."""
+    scene = make_scene(case, **params)
+    beauty, _ = _beauty_and_layers(scene, seed=11)
+    ref = _path(scene, seed=11)
+    np.testing.assert_allclose(beauty, ref, rtol=0, atol=SUM_RTOL * float(ref.max()))
+
+
 @pytest.mark.parametrize("name", sorted(SCENE_FILES))
 def test_scenes_of_the_project_match_path(variant, name):
     """Every path-traced scene of scenes/ (spectrace's phong, blinnphong, pointlight,
