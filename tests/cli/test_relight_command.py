@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_render_command import assert_one_line_error
 
 from spectrace import lightgroups
 from spectrace.cli import main
@@ -19,14 +20,6 @@ EXIT_USAGE = 2
 #: Layers against the beauty of the same render, float32 (relative to the largest value).
 SUM_RTOL = 1e-5
 SHOWCASE_GROUPS = ["emitter0", "emitter1", "environment"]  # point, spot, sky: no ids
-
-
-def assert_one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: "), err
-    assert "Traceback" not in "\n".join(err)
-    for word in words:
-        assert word in err[-1], (word, err[-1])
 
 
 @pytest.fixture

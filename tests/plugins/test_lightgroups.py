@@ -139,6 +139,17 @@ def assert_layers_sum(beauty, layers):
                                atol=SUM_RTOL * max(float(np.abs(beauty).max()), 1e-6))
 
 
+def _check_layers_and_path(scene):
+    """The beauty of each of SEEDS (its layers checked to sum to it), and ``path``'s."""
+    mine, ref = [], []
+    for seed in SEEDS:
+        beauty, layers = _beauty_and_layers(scene, seed)
+        assert_layers_sum(beauty, layers)
+        mine.append(beauty)
+        ref.append(_path(scene, seed))
+    return mine, ref
+
+
 @pytest.mark.parametrize(("case", "params"), CASES)
 def test_layers_sum_to_beauty_and_beauty_is_path(variant, case, params):
     """Light is additive: the layers of one render sum to its beauty image (float
@@ -146,12 +157,7 @@ def test_layers_sum_to_beauty_and_beauty_is_path(variant, case, params):
     Carlo noise over eight seeds), so no contribution is lost or double-counted by MIS,
     Russian roulette, the depth limit or hidden emitters."""
     scene = make_scene(case, **params)
-    mine, ref = [], []
-    for seed in SEEDS:
-        beauty, layers = _beauty_and_layers(scene, seed)
-        assert_layers_sum(beauty, layers)
-        mine.append(beauty)
-        ref.append(_path(scene, seed))
+    mine, ref = _check_layers_and_path(scene)
     assert np.isfinite(np.stack(mine)).all() and np.stack(ref).mean() > 0
     assert_matches_path(mine, ref)
 
@@ -176,13 +182,7 @@ def test_scenes_of_the_project_match_path(variant, name):
     from spectrace.scene import load_scene
 
     scene = load_scene(ROOT / "scenes" / name, SCENE_FILES[name])
-    mine, ref = [], []
-    for seed in SEEDS:
-        beauty, layers = _beauty_and_layers(scene, seed)
-        assert_layers_sum(beauty, layers)
-        mine.append(beauty)
-        ref.append(_path(scene, seed))
-    assert_matches_path(mine, ref)
+    assert_matches_path(*_check_layers_and_path(scene))
 
 
 def test_a_layer_is_the_image_of_its_light_alone(variant_rgb):
