@@ -11,7 +11,8 @@ uniform sky), RES x RES, max_depth 6. Renders:
 * ``lightgroups, 8 groups``: one layer per emitter (aim <= 1.3x one group).
 
 For each variant the first render (tracing and compilation, or a kernel-cache hit) is
-timed apart, then the best of REPEATS warm renders interleaved across the three.
+timed apart, then the best of REPEATS warm renders interleaved across the three, in
+wall-clock time and in process CPU time (steadier on a shared machine).
 Both film filters (``gaussian``, hdrfilm's default, and ``box``) are measured: the film
 splats every AOV channel with the filter, so the layers' cost there is Mitsuba's film.
 Relighting: 8 RGB layers of 1024 x 1024 (random data, which ZIP cannot compress: the worst
@@ -69,6 +70,18 @@ def scene_dict(res: int, spp: int, rfilter: str = "gaussian"):
     return scene
 
 
+def timed_cpu_render(scene, **render_args) -> tuple[float, float]:
+    """(wall-clock, process CPU) seconds of one render, evaluated and synchronised. The
+    CPU time (all of Dr.Jit's threads) is the steadier measure on a shared machine."""
+    import drjit as dr
+    import mitsuba as mi
+
+    wall, cpu = time.perf_counter(), time.process_time()
+    dr.eval(mi.render(scene, **render_args))
+    dr.sync_thread()
+    return time.perf_counter() - wall, time.process_time() - cpu
+
+
 def render_rows(args):
     from spectrace import lightgroups
 
@@ -87,14 +100,18 @@ def render_rows(args):
         }
         first = {k: timed_render(scene, spp=args.spp, seed=0, integrator=i)
                  for k, i in integrators.items()}
+
         def measure(integrator, repeat, scene=scene):
-            return timed_render(scene, spp=args.spp, seed=repeat, integrator=integrator)
+            return timed_cpu_render(scene, spp=args.spp, seed=repeat, integrator=integrator)
 
         warm = interleaved(integrators, measure, args.repeats)
-        best = {k: min(v) for k, v in warm.items()}
+        wall = {k: min(t[0] for t in v) for k, v in warm.items()}
+        cpu = {k: min(t[1] for t in v) for k, v in warm.items()}
         for k in integrators:
-            rows.append((variant, rfilter, k, first[k], best[k], best[k] / best["path"],
-                         best[k] / best["lightgroups, 1 group"]))
+            rows.append((variant, rfilter, k, first[k], wall[k], cpu[k],
+                         wall[k] / wall["path"], cpu[k] / cpu["path"],
+                         wall[k] / wall["lightgroups, 1 group"],
+                         cpu[k] / cpu["lightgroups, 1 group"]))
     return rows
 
 
@@ -132,9 +149,11 @@ def main(argv=None) -> int:
     rows = render_rows(args)
     print(f"render {args.res}x{args.res}, {args.spp} spp, max_depth 6, {GROUPS} emitters, "
           f"best of {args.repeats} warm renders")
-    print_table([("variant", ">16", ""), ("rfilter", ">8", ""), ("integrator", ">22", ""),
-                 ("first render s", ">15", ".3f"), ("warm render s", ">14", ".3f"),
-                 ("/ path", ">7", ".2f"), ("/ 1 group", ">10", ".2f")], rows, sep="  ")
+    print_table([("variant", ">16", ""), ("rfilter", ">8", ""), ("integrator", ">21", ""),
+                 ("first s", ">7", ".3f"), ("wall s", ">6", ".3f"), ("CPU s", ">6", ".3f"),
+                 ("wall/path", ">9", ".2f"), ("CPU/path", ">8", ".2f"),
+                 ("wall/1 group", ">12", ".2f"), ("CPU/1 group", ">11", ".2f")], rows,
+                sep="  ")
     print()
     print(f"relight {RELIGHT_RES}x{RELIGHT_RES}, {GROUPS} RGB layers, best of "
           f"{args.repeats}")

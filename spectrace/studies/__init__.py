@@ -9,6 +9,8 @@ tested (``tests/studies/``) and shared:
   classic and normalized Phong, Blinn-Phong and microfacet BSDFs (``phong_vs_energy.ipynb``);
 * :mod:`spectrace.studies.light_falloff`: distance laws, cone falloffs and fog laws in
   closed form, and the floor-irradiance measurement (``light_falloff.ipynb``).
+* :mod:`spectrace.studies.light_compositing`: one layer per luminaire from one render,
+  superposition, light scenes by relighting (``light_compositing.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what
