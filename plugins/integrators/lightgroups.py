@@ -56,6 +56,21 @@ sensor response), then ``mi.spectrum_to_srgb`` (CIE 1931 XYZ -> linear sRGB) on 
 sample's wavelengths. Mono variants: R = G = B = the
 luminance. Polarized variants are refused (the throughput would be a Mueller matrix).
 
+Details:
+
+* The emitter -> group lookup: an ``EmitterPtr`` is, in the JIT variants, the emitter's
+  index in Mitsuba's instance registry; ``dr.reinterpret_array(mi.UInt32, ptr)`` gives it
+  (0 for no emitter), and a gather from a table indexed by it gives the group. It works
+  alike for Mitsuba's C++ emitters and for emitters written in Python (spectrace's
+  ``pointlight``, ``spotlight``, ``ieslight``), which every emitter sample of theirs names in
+  ``ds.emitter``. The table is built from ``scene.emitters()`` when the kernel is traced.
+* The samples are drawn in the order of Mitsuba's ``path`` (light sample, BSDF sample,
+  roulette), with its Russian roulette (from depth ``rr_depth``, survival probability
+  min(max throughput * eta^2, 0.95)) and its alpha (a path is valid once it hits a surface
+  that is not a null BSDF, or sees the environment).
+* A scene whose integrator is ``lightgroups`` renders its layers with ``spectrace render``
+  as with ``--light-groups``.
+
 Sources
 -------
 

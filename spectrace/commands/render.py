@@ -192,8 +192,11 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
             per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
             return render_passes_distributed(client, spec, spp, seed=args.seed,
                                              spp_per_pass=per_pass, on_pass=on_pass)
+        groups = _light_groups(args)
+        if groups is None and type(scene.integrator()).__name__ == "LightGroups":
+            groups = True  # the scene's own lightgroups integrator: write its layers
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
-                             on_pass=on_pass, light_groups=_light_groups(args))
+                             on_pass=on_pass, light_groups=groups)
 
 
 def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:

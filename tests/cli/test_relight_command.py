@@ -113,3 +113,32 @@ def test_render_refuses_integrators_it_cannot_split(tmp_path, capsys):
     assert code == EXIT_USAGE
     assert_one_line_error(capsys, "'path' or 'direct'", "Local")
     assert not out.exists()
+
+
+OWN_INTEGRATOR = """<scene version="3.0.0">
+  <integrator type="lightgroups"><string name="groups" value="key=lamp;sky=environment"/>
+  </integrator>
+  <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 3"
+      target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>
+    </film></sensor>
+  <shape type="rectangle"/>
+  <emitter type="pointlight" id="lamp"><point name="position" x="0" y="0" z="1"/>
+    <float name="intensity" value="1"/></emitter>
+  <emitter type="constant"><float name="radiance" value="0.2"/></emitter>
+</scene>
+"""
+
+
+def test_a_scene_of_the_lightgroups_integrator_writes_its_layers(tmp_path):
+    """A scene that names ``lightgroups`` itself gets its layers in the EXR without the
+    option, in the order of its ``groups``, summing to the beauty."""
+    scene = tmp_path / "own.xml"
+    scene.write_text(OWN_INTEGRATOR)
+    out = tmp_path / "own.exr"
+    assert main(["render", str(scene), "-o", str(out), "--spp", "4", "-q",
+                 "--variant", "llvm_ad_rgb"]) == 0
+    beauty, layers, _ = lightgroups.read_layers_exr(out)
+    assert list(layers) == ["key", "sky"] and layers["key"].max() > 0
+    np.testing.assert_allclose(sum(layers.values()), beauty, rtol=0,
+                               atol=SUM_RTOL * beauty.max())
