@@ -162,11 +162,13 @@ def format_groups(groups: Mapping[str, list[str]]) -> str:
     return ";".join(f"{k}={','.join(v)}" for k, v in groups.items())
 
 
-def integrator_for(scene, light_groups, integrator=None, sensor=0):
+def integrator_for(scene, light_groups, integrator=None, sensor=0, band_wavelengths=None):
     """A ``lightgroups`` integrator for ``scene`` in place of ``integrator`` (default the
     scene's), with the groups :func:`resolve_groups` makes; ParameterError for an
     integrator it does not replace (see the module docstring) and for a film with a sensor
-    response (``specfilm``: spectral layers are not supported yet)."""
+    response (``specfilm``: Mitsuba 3.9's cannot hold AOVs). ``band_wavelengths``: spectral
+    layers of hat bands at these centres (:func:`spectrace.spectral_film.band_centres`)
+    instead of RGB ones, on the scene's RGB film."""
     import mitsuba as mi
 
     from spectrace import registry
@@ -176,13 +178,13 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0):
                              f"{mi.variant()})")
     integrator = scene.integrator() if integrator is None else integrator
     film = (scene.sensors()[sensor] if isinstance(sensor, int) else sensor).film()
-    if film.sensor_response_function() is not None:
-        raise ParameterError(f"light groups: the film {film.class_name()} has a sensor "
-                             "response (a spectral film); light-group layers need an RGB "
-                             "film (hdrfilm)")
     kind = integrator.class_name()
     if kind == "SamplingIntegrator":  # a Python integrator: its class
         kind = type(integrator).__name__
+    if film.sensor_response_function() is not None:  # Mitsuba 3.9's specfilm drops AOVs
+        raise ParameterError(f"light groups: the film {film.class_name()} has a sensor "
+                             "response (a spectral film), which cannot hold layers; use "
+                             "hdrfilm (spectral layers: band_wavelengths)")
     if kind == "LightGroups":
         emitter_group_indices(scene, integrator.groups)
         return integrator
@@ -193,27 +195,33 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0):
     depths = {k: int(v) for k, v in _DEPTH.findall(str(integrator))}
     max_depth = REPLACED_INTEGRATORS[kind] or depths.get("max_depth", -1)
     registry.require({"lightgroups"})
-    return mi.load_dict({
+    props = {
         "type": "lightgroups", "groups": format_groups(resolve_groups(scene, light_groups)),
         "max_depth": max_depth, "rr_depth": depths.get("rr_depth", 5),
         "hide_emitters": bool(integrator.hide_emitters),
-    })
+    }
+    if band_wavelengths is not None:
+        props["band_wavelengths"] = ",".join(repr(float(w)) for w in band_wavelengths)
+    return mi.load_dict(props)
 
 
-def split(pixels, names: list[str]):
-    """``(beauty (H, W, 3), {group: (H, W, 3)})`` of a ``lightgroups`` render's pixels
-    (the film's channels, then three per group in ``names`` order)."""
+def split(pixels, names: list[str], per_layer: int = 3):
+    """``(beauty, {group: layer})`` of a ``lightgroups`` render's pixels: the film's
+    channels (the beauty, as (H, W, 3) RGB when ``per_layer`` is 3), then ``per_layer``
+    channels per group in ``names`` order (3: R, G, B; N: the bands of spectral layers)."""
     import numpy as np
 
     from spectrace.images import as_rgb
 
     image = np.asarray(pixels, dtype=np.float32)
-    base = image.shape[-1] - 3 * len(names)
+    n = per_layer
+    base = image.shape[-1] - n * len(names)
     if base < 1:
         raise ParameterError(f"split: {image.shape[-1]} channels cannot hold a beauty image "
-                             f"and {len(names)} layers of 3")
-    layers = {n: image[..., base + 3 * i: base + 3 * i + 3] for i, n in enumerate(names)}
-    return as_rgb(image[..., :base]), layers
+                             f"and {len(names)} layers of {n}")
+    layers = {g: image[..., base + n * i: base + n * (i + 1)] for i, g in enumerate(names)}
+    beauty = image[..., :base]
+    return (as_rgb(beauty) if n == 3 else beauty), layers
 
 
 # -- files -------------------------------------------------------------------------------
@@ -343,3 +351,220 @@ def relight(layers: Mapping, scales: Mapping[str, float], spectra: Mapping | Non
         out[g] = scaled
         total = scaled.copy() if total is None else np.add(total, scaled, out=total)
     return total, out
+
+
+# -- spectral layers ---------------------------------------------------------------------
+
+#: Step (nm) of the grid on which lamp spectra are probed and averaged over the bands.
+PROBE_STEP_NM = 1.0
+
+
+def band_averages(wavelengths, values, centres):
+    """The hat-band averages sum S hat_j / sum hat_j of the spectrum (``wavelengths``,
+    ``values``; linear interpolation, 0 outside) on a :data:`PROBE_STEP_NM` grid over the
+    bands at ``centres`` (evenly spaced; half hats at the ends, as the layers' bands)."""
+    import numpy as np
+
+    c = np.asarray(centres, np.float64)
+    grid = np.arange(c[0], c[-1] + PROBE_STEP_NM / 2, PROBE_STEP_NM)
+    S = np.interp(grid, wavelengths, values, left=0.0, right=0.0)
+    hats = np.maximum(1.0 - np.abs(grid[None, :] - c[:, None]) / (c[1] - c[0]), 0.0)
+    return hats @ S / hats.sum(axis=1)
+
+
+def emitter_spectrum(emitter, centres):
+    """The relative emission spectrum of ``emitter`` averaged over the hat bands at
+    ``centres`` (:func:`band_averages`), peak 1, or None when it cannot be probed (no light
+    found). Probed at one emitted direction: a ray from ``sample_ray``, then
+    ``sample_direction`` towards the emitter from a point on that ray, at every wavelength
+    of the grid with the same 2D sample (the spatial factors are the same at every
+    wavelength); a spatially varying spectrum gives the spectrum there."""
+    import drjit as dr
+    import mitsuba as mi
+    import numpy as np
+
+    n = 16
+    u = (np.arange(n) + 0.5) / n
+    ray, weight = emitter.sample_ray(0.0, mi.Float(0.5), mi.Point2f(u, u[::-1]),
+                                     mi.Point2f(u[::-1], u), True)
+    strength = np.asarray(dr.max(mi.unpolarized_spectrum(weight))).ravel()
+    lane = int(np.argmax(strength))
+    if not strength[lane] > 0.0:
+        return None
+
+    def at_lane(v):  # a (3, width) array, width 1 when it is the same for every lane
+        a = np.asarray(v, np.float64).reshape(3, -1)
+        return a[:, min(lane, a.shape[1] - 1)]
+
+    p = at_lane(ray.o) + 0.5 * at_lane(ray.d)
+    c = np.asarray(centres, np.float64)
+    grid = np.arange(c[0], c[-1] + PROBE_STEP_NM / 2, PROBE_STEP_NM)
+    width = len(mi.Spectrum(0.0))  # wavelengths per sample (4)
+    padded = np.concatenate([grid, np.full((-len(grid)) % width, grid[-1])])
+    lanes = padded.reshape(-1, width).T  # (4, m): the wavelengths of m samples
+    it = dr.zeros(mi.Interaction3f, lanes.shape[1])
+    it.p = mi.Point3f(*(float(x) for x in p))
+    it.wavelengths = mi.Spectrum(*(mi.Float(row) for row in lanes))
+    _, w = emitter.sample_direction(it, mi.Point2f(0.37, 0.61), True)
+    values = np.stack([np.asarray(w[i]) for i in range(width)]).T.ravel()[:len(grid)]
+    if not (np.all(np.isfinite(values)) and values.max() > 0.0):
+        return None
+    bands = band_averages(grid, values, c)
+    return bands / bands.max()
+
+
+def group_spectra(scene, groups: Mapping[str, list[str]], wavelengths,
+                  rtol: float = 1e-3) -> dict:
+    """group -> the relative emission spectrum its emitters share, averaged over the bands
+    at ``wavelengths`` (peak 1), or None when it cannot be probed or its emitters' spectra
+    differ (by ``rtol``)."""
+    import numpy as np
+
+    emitters = dict(zip(emitter_names(scene), scene.emitters(), strict=True))
+    out = {}
+    for g, members in groups.items():
+        spectra = [emitter_spectrum(emitters[m], wavelengths) for m in members]
+        same = all(s is not None for s in spectra) and all(
+            np.allclose(s, spectra[0], rtol=rtol, atol=rtol) for s in spectra)
+        out[g] = spectra[0] if same else None
+    return out
+
+
+def _spectrum_attribute(values) -> str:
+    return ",".join(f"{v:.9g}" for v in values)
+
+
+def write_spectral_layers_exr(path, bands, layers: Mapping, wavelengths, preview,
+                              spectra: Mapping | None = None,
+                              header: Mapping | None = None) -> Path:
+    """The spectral beauty (H, W, N band averages) as ``S0.<wl>nm`` channels (Fichet 2021)
+    with its linear sRGB ``preview`` as R, G, B, and each group's bands as
+    ``<group>.S0.<wl>nm``, float32, atomically. Header: the layout's attributes,
+    ``lightGroups``, and ``<group>.spectrum``: the group's relative lamp spectrum at the
+    band centres where known (``spectra``), what :func:`relight` needs for a new one."""
+    import numpy as np
+    import OpenEXR
+
+    from spectrace.spectral.exr import DEFAULT_EMISSIVE_UNITS, LAYOUT_VERSION, spectral_channel_name
+
+    path = Path(path)
+    names = [spectral_channel_name(w) for w in wavelengths]
+    channels = {}
+    for prefix, image in [("", bands), *((f"{check_group_name(k)}.", v)
+                                         for k, v in layers.items())]:
+        image = np.asarray(image, dtype=np.float32)
+        for i, name in enumerate(names):
+            channels[prefix + name] = np.ascontiguousarray(image[..., i])
+    preview = np.asarray(preview, dtype=np.float32)
+    for c, name in enumerate(CHANNELS):
+        channels[name] = np.ascontiguousarray(preview[..., c])
+    hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
+           "spectralLayoutVersion": LAYOUT_VERSION, "emissiveUnits": DEFAULT_EMISSIVE_UNITS}
+    hdr.update(header or {})
+    hdr["lightGroups"] = ",".join(layers)
+    for g, values in (spectra or {}).items():
+        if values is not None:
+            hdr[f"{g}.spectrum"] = _spectrum_attribute(values)
+
+    def write(tmp):
+        with OpenEXR.File(hdr, channels) as f:
+            f.write(tmp)
+
+    _atomic_write(path, write)
+    return path
+
+
+def read_spectral_layers_exr(path):
+    """``(bands (H, W, N), {group: (H, W, N)}, wavelengths, spectra, header)`` of
+    :func:`write_spectral_layers_exr`'s file; ``spectra``: group -> relative lamp spectrum
+    at the wavelengths, or None. FileFormatError for a file without spectral layers."""
+    import numpy as np
+
+    from spectrace.spectral import read_spectral_exr
+
+    bands, wavelengths, header = read_spectral_exr(path, kind="emissive", with_header=True)
+    names = [g for g in str(header.get("lightGroups", "")).split(",") if g]
+    layers = {}
+    import OpenEXR
+
+    with OpenEXR.File(str(path), separate_channels=True) as f:
+        channels = f.channels()
+        from spectrace.spectral.exr import spectral_channel_name
+
+        for g in names:
+            keys = [f"{g}.{spectral_channel_name(w)}" for w in wavelengths]
+            if not all(k in channels for k in keys):
+                raise FileFormatError(f"{path}: spectral layer {g!r} lacks some of its bands")
+            layers[g] = np.stack([np.asarray(channels[k].pixels, np.float32) for k in keys],
+                                 axis=-1)
+    if not layers:
+        raise FileFormatError(f"{path}: no spectral light-group layers (<group>.S0.*)")
+    spectra = {}
+    for g in layers:
+        text = header.get(f"{g}.spectrum")
+        spectra[g] = None if text is None else np.array([float(v) for v in str(text).split(",")])
+    return bands, layers, np.asarray(wavelengths, np.float64), spectra, header
+
+
+def is_spectral_layers_file(path) -> bool:
+    """Whether ``path`` holds spectral light-group layers (``<group>.S0.*`` channels)."""
+    import OpenEXR
+
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as f:
+            return any(".S0." in k for k in f.channels())
+    except Exception:  # unreadable: the readers name the problem
+        return False
+
+
+def relight_spectral(layers: Mapping, wavelengths, scales: Mapping[str, float],
+                     new_spectra: Mapping | None = None, old_spectra: Mapping | None = None):
+    """:func:`relight` of spectral layers (H, W, N band averages at ``wavelengths``), and
+    for the groups in ``new_spectra`` (group -> (wavelengths, values) of an SPD) a new lamp
+    spectrum: the layer times S_new / S_old band by band (both averaged over each band,
+    :func:`band_averages`), S_new scaled to the luminous output of S_old (sum of the band
+    averages of V S equal), then times the scale. Exact when the scene's spectral response
+    is constant within each band: up to the band discretisation. ParameterError when a
+    group's old spectrum is unknown (``old_spectra``) or zero where the new one is not."""
+    import numpy as np
+
+    new_spectra = dict(new_spectra or {})
+    factors = {}
+    for g in new_spectra:
+        if g not in layers:
+            raise ParameterError(f"relight: no light group {g!r} in the layers (they are: "
+                                 f"{', '.join(layers)})")
+        old = (old_spectra or {}).get(g)
+        if old is None:
+            raise ParameterError(f"relight: light group {g!r}: its lamp spectrum is not "
+                                 "recorded in the layers (its emitters' spectra differ or "
+                                 "could not be probed), so a new one cannot replace it")
+        wl_new, v_new = new_spectra[g]
+        new = band_averages(wl_new, v_new, wavelengths)
+        if np.any(new < 0):
+            raise ParameterError(f"relight: light group {g!r}: the new spectrum is negative")
+        old = np.asarray(old, np.float64)
+        if np.any((old <= 0) & (new > 0)):
+            raise ParameterError(f"relight: light group {g!r}: the old lamp spectrum is 0 "
+                                 "where the new one is not: no layer data there")
+        V = band_averages(*_photopic(), wavelengths)
+        if not np.sum(V * new) > 0:
+            raise ParameterError(f"relight: light group {g!r}: the new spectrum has no "
+                                 "luminous output in the bands")
+        new = new * np.sum(V * old) / np.sum(V * new)
+        factors[g] = np.where(old > 0, new / np.where(old > 0, old, 1.0), 0.0)
+    image, scaled = relight(layers, scales)
+    for g, f in factors.items():
+        scaled[g] = np.multiply(scaled[g], f.astype(np.float32), dtype=np.float32)
+    total = None
+    for layer in scaled.values():
+        total = layer.copy() if total is None else np.add(total, layer, out=total)
+    return total, scaled
+
+
+def _photopic():
+    """(wavelengths, values) of V(lambda), CIE 1924 (colour-science)."""
+    import colour
+
+    V = colour.colorimetry.SDS_LEFS_PHOTOPIC["CIE 1924 Photopic Standard Observer"]
+    return V.wavelengths, V.values

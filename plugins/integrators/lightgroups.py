@@ -17,23 +17,28 @@ the beauty is the film's own channels as with ``path``.
 Parameters
 ----------
 
-=================  ========  =======  ====  ===================================================
-parameter          type      default  unit  description
-=================  ========  =======  ====  ===================================================
-``groups``         string    --       --    required: ``name=id1,id2;name2=id3``: the groups,
-                                            each a name (letters, digits, ``_``, ``-``) and the
-                                            emitters in it; every emitter of the scene in exactly
-                                            one group. An emitter is named by its ``id``, an
-                                            emitter without one by ``emitter<k>`` (k: its index
-                                            in ``scene.emitters()``), an environment emitter
-                                            without one by ``environment``
-``max_depth``      integer   -1       --    longest path (vertices): 1 shows the emitters
-                                            seen directly, 2 direct light, -1 no limit
-``rr_depth``       integer   5        --    depth from which Russian roulette may stop a
-                                            path, >= 1
-``hide_emitters``  boolean   false    --    emitters seen directly (area lights, environment)
-                                            are not shown
-=================  ========  =======  ====  ===================================================
+====================  ========  =======  ====  ===================================================
+parameter             type      default  unit  description
+====================  ========  =======  ====  ===================================================
+``groups``            string    --       --    required: ``name=id1,id2;name2=id3``: the groups,
+                                               each a name (letters, digits, ``_``, ``-``) and the
+                                               emitters in it; every emitter of the scene in exactly
+                                               one group. An emitter is named by its ``id``, an
+                                               emitter without one by ``emitter<k>`` (k: its index
+                                               in ``scene.emitters()``), an environment emitter
+                                               without one by ``environment``
+``max_depth``         integer   -1       --    longest path (vertices): 1 shows the emitters
+                                               seen directly, 2 direct light, -1 no limit
+``rr_depth``          integer   5        --    depth from which Russian roulette may stop a
+                                               path, >= 1
+``hide_emitters``     boolean   false    --    emitters seen directly (area lights, environment)
+                                               are not shown
+``band_wavelengths``  string    --       nm    spectral variants: spectral layers, the
+                                               channels ``<group>.band000``, ... instead of
+                                               R, G, B: hat bands at these evenly spaced
+                                               centres, as ``spectrace render --film
+                                               spectral`` makes (see below)
+====================  ========  =======  ====  ===================================================
 
 Formula
 -------
@@ -55,6 +60,15 @@ the weight of Mitsuba's sensors without an ``srf``; the render refuses films wit
 sensor response), then ``mi.spectrum_to_srgb`` (CIE 1931 XYZ -> linear sRGB) on the
 sample's wavelengths. Mono variants: R = G = B = the
 luminance. Polarized variants are refused (the throughput would be a Mueller matrix).
+
+Spectral layers (``band_wavelengths`` c_0 < ... < c_{N-1}, spacing d): channel j of a
+group's layer is the estimate of integral L(l) hat_j(l) dl, hat_j(l) = max(0, 1 - |l - c_j|
+/ d) on [c_0, c_{N-1}] (half hats at the ends; the bands of
+:mod:`spectrace.spectral_film`), from the sample's wavelengths and their weight:
+mean over the wavelengths of L w hat_j. Mitsuba 3.9's ``specfilm`` writes its bands over
+the integrator's AOVs, so these layers go on the RGB film as AOVs (its wavelength
+sampling, 360-830 nm); ``spectrace.spectral_film.film_to_bands`` turns them into band
+averages.
 
 Details:
 
@@ -96,6 +110,8 @@ Two groups, the key and fill lights dimmable separately, the sky its own layer::
 
 from __future__ import annotations
 
+import math
+
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
@@ -105,6 +121,8 @@ from spectrace import lightgroups
 PLUGIN = "lightgroups"
 #: Russian roulette keeps a path with at most this probability (Mitsuba's ``path``).
 RR_MAX_PROBABILITY = 0.95
+#: The channel of band j of a spectral layer: ``<group>.band000``.
+BAND_CHANNEL = "band{:03d}"
 #: ``max_depth`` -1: no limit (Mitsuba's convention: 2^32 - 1 vertices).
 UNLIMITED_DEPTH = 0xFFFFFFFF
 
@@ -134,8 +152,31 @@ class LightGroups(mi.SamplingIntegrator):
         except ValueError as e:
             raise ValueError(f"{PLUGIN}: parameter 'groups': {e}") from None
         self.names = list(self.groups)
+        self.bands = None  # band centres (nm) of spectral layers
+        text = params.read_string(props, PLUGIN, "band_wavelengths", None)
+        if text is not None:
+            self.bands = self._band_centres(text)
+
+    @staticmethod
+    def _band_centres(text: str) -> list[float]:
+        where = f"{PLUGIN}: parameter 'band_wavelengths'"
+        if not mi.is_spectral:
+            raise ValueError(f"{where} needs a spectral variant (got {mi.variant()})")
+        try:
+            c = [float(v) for v in text.replace(",", " ").split()]
+        except ValueError:
+            raise ValueError(f"{where} must be numbers in nm (got {text!r})") from None
+        steps = [b - a for a, b in zip(c, c[1:], strict=False)]
+        if len(c) < 2 or not all(math.isfinite(v) and v > 0 for v in c) or not all(
+                abs(d - steps[0]) <= 1e-6 * steps[0] and d > 0 for d in steps):
+            raise ValueError(f"{where} must be 2 or more evenly spaced increasing "
+                             f"wavelengths in nm (got {text!r})")
+        return c
 
     def aov_names(self):
+        if self.bands is not None:
+            return [f"{name}.{BAND_CHANNEL.format(j)}" for name in self.names
+                    for j in range(len(self.bands))]
         return [f"{name}.{c}" for name in self.names for c in "RGB"]
 
     def to_string(self):
@@ -249,15 +290,23 @@ class LightGroups(mi.SamplingIntegrator):
                               label=PLUGIN)
         L, Lg, valid_ray = state[4], state[5], state[9]
         return (dr.select(valid_ray, L, 0.0), valid_ray,
-                self._layers([dr.select(valid_ray, x, 0.0) for x in Lg], ray, active))
+                self._layers([dr.select(valid_ray, x, 0.0) for x in Lg], ray, active, scene))
 
-    @staticmethod
-    def _layers(Lg, ray, active):
-        """The AOV floats: linear sRGB of each group's radiance (see the docstring)."""
+    def _layers(self, Lg, ray, active, scene):
+        """The AOV floats: linear sRGB or band values of each group's radiance (see the
+        docstring)."""
         out = []
         if mi.is_spectral:  # the sensor's wavelength weight, which the film applies to L
-            pdf = mi.pdf_rgb_spectrum(ray.wavelengths)
+            srf = scene.sensors()[0].film().sensor_response_function()
+            if srf is None:
+                pdf = mi.pdf_rgb_spectrum(ray.wavelengths)
+            else:
+                si = dr.zeros(mi.SurfaceInteraction3f, dr.width(ray.wavelengths))
+                si.wavelengths = ray.wavelengths
+                pdf = srf.pdf_spectrum(si, active)
             weight = dr.select(pdf > 0.0, dr.rcp(pdf), 0.0)
+        if self.bands is not None:
+            return [v for L in Lg for v in self._band_values(L * weight, ray.wavelengths)]
         for L in Lg:
             if mi.is_spectral:
                 rgb = mi.spectrum_to_srgb(L * weight, ray.wavelengths, active)
@@ -266,6 +315,22 @@ class LightGroups(mi.SamplingIntegrator):
             else:
                 rgb = L
             out += [rgb[0], rgb[1], rgb[2]]
+        return out
+
+    def _band_values(self, L, wavelengths):
+        """specfilm's channels of the weighted radiance L: the mean over the sample's
+        wavelengths of L hat_j, hat_j the band's response (peak 1, half hats at the ends)."""
+        c0, step = self.bands[0], self.bands[1] - self.bands[0]
+        lo, hi = self.bands[0], self.bands[-1]
+        out = []
+        for j in range(len(self.bands)):
+            total = mi.Float(0.0)
+            for i in range(len(wavelengths)):
+                lam = wavelengths[i]
+                hat = dr.maximum(1.0 - dr.abs(lam - (c0 + j * step)) / step, 0.0)
+                hat = dr.select((lam >= lo) & (lam <= hi), hat, 0.0)
+                total += L[i] * hat
+            out.append(total / len(wavelengths))
         return out
 
 

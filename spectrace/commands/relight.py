@@ -43,17 +43,66 @@ def run(args) -> int:
         scales[group] = scale
         if spectrum is not None:
             spectra[group] = spectrum
+    png = out.with_suffix(".png")
+    if lightgroups.is_spectral_layers_file(args.layers):
+        return _relight_spectral(args.layers, out, png, scales, spectra)
     start = time.perf_counter()
     _, layers, header = lightgroups.read_layers_exr(args.layers)
-    image, scaled = lightgroups.relight(layers, scales, spectra)
+    if spectra:
+        raise UsageError(f"-L {next(iter(spectra))}=...,SPECTRUM: {args.layers} has RGB "
+                         "layers; a new lamp spectrum needs the spectral layers "
+                         "(OUT.spectral.exr of render --film spectral --light-groups)")
+    image, scaled = lightgroups.relight(layers, scales)
     seconds = time.perf_counter() - start
-    png = out.with_suffix(".png")
     for p in (out, png):
         check_writable(p)
-    header = {k: v for k, v in header.items() if k in ("spp", "variant", "seed", "scene")}
-    header["relight"] = ";".join(f"{g}={s:g}" for g, s in scales.items())
+    header = _header(header, scales, spectra)
     lightgroups.write_layers_exr(out, image, scaled, header)
     write_png(png, image)
+    _report(layers, scales, seconds, out)
+    return 0
+
+
+def _header(header, scales, spectra):
+    kept = {k: v for k, v in header.items() if k in ("spp", "variant", "seed", "scene")}
+    kept["relight"] = ";".join([f"{g}={s:g}" for g, s in scales.items()]
+                               + [f"{g}:{v}" for g, v in spectra.items()])
+    return kept
+
+
+def _report(layers, scales, seconds, out):
     factors = ", ".join(f"{g} x{scales.get(g, 1.0):g}" for g in layers)
     print(f"relit {len(layers)} layers ({factors}) in {seconds * 1e3:.0f} ms -> {out}")
+
+
+def _relight_spectral(path, out, png, scales, spectra) -> int:
+    """Spectral layers: new intensities and lamp spectra; writes OUT.spectral.exr (the
+    relit spectral layers), OUT.exr (their RGB) and the PNG."""
+    import time
+
+    from spectrace import lightgroups
+    from spectrace.images import check_writable, write_png
+    from spectrace.spectral import load_spd
+    from spectrace.spectral_film import bands_to_linear_srgb
+
+    start = time.perf_counter()
+    _, layers, wavelengths, old, header = lightgroups.read_spectral_layers_exr(path)
+    new = {g: load_spd(source)[:2] for g, source in spectra.items()}
+    image, scaled = lightgroups.relight_spectral(layers, wavelengths, scales, new, old)
+    seconds = time.perf_counter() - start
+    spectral = out.with_suffix(".spectral.exr")
+    for p in (out, png, spectral):
+        check_writable(p)
+    recorded = dict(old)
+    for g, (wl, values) in new.items():  # the new lamp spectrum, peak 1, for a next relight
+        v = lightgroups.band_averages(wl, values, wavelengths)
+        recorded[g] = v / v.max()
+    rgb = bands_to_linear_srgb(image, wavelengths)
+    header = _header(header, scales, spectra)
+    lightgroups.write_spectral_layers_exr(spectral, image, scaled, wavelengths, rgb,
+                                          recorded, header)
+    lightgroups.write_layers_exr(out, rgb, {g: bands_to_linear_srgb(v, wavelengths)
+                                            for g, v in scaled.items()}, header)
+    write_png(png, rgb)
+    _report(layers, scales, seconds, spectral)
     return 0

@@ -104,9 +104,6 @@ def run(args) -> int:
     if light_groups is not None and (args.workers is not None or args.scheduler):
         raise UsageError("--light-groups/--light-group: not supported with --workers or "
                          "--scheduler yet")
-    if light_groups is not None and args.film == "spectral":
-        raise UsageError("--light-groups/--light-group: spectral layers (--film spectral) "
-                         "are not supported yet")
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers must be a positive integer (got {args.workers})")
     all_paths = scene_outputs(scene_paths, args.output, args.film)
@@ -121,18 +118,25 @@ def run(args) -> int:
     loaded = []  # every scene loads before anything renders: a bad one costs no output
     for scene_path, root in zip(scene_paths, roots, strict=True):
         wavelengths = None
-        if args.film == "spectral":
+        if args.film == "spectral" and light_groups is not None:
+            # spectral layers on the scene's own film (lightgroups' band_wavelengths)
+            from spectrace.spectral_film import band_centres
+
+            wavelengths = band_centres(args.bands)
+            scene = load_scene(scene_path, params)
+        elif args.film == "spectral":
             from spectrace.spectral_film import replace_film
 
             wavelengths = replace_film(root, bands=args.bands)
             scene = load_scene(scene_path, params, root=root)
         else:
             scene = load_scene(scene_path, params)
+        integrator = None
         if light_groups is not None:  # a bad group costs no render
             from spectrace.lightgroups import integrator_for
 
-            integrator_for(scene, light_groups)
-        loaded.append((scene, wavelengths))
+            integrator = integrator_for(scene, light_groups, band_wavelengths=wavelengths)
+        loaded.append((scene, wavelengths, integrator))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         client = None
@@ -144,9 +148,11 @@ def run(args) -> int:
         for paths in all_paths:  # before rendering: a bad output path costs no render time
             for p in paths.values():
                 check_writable(p)
-        for scene_path, (scene, wavelengths), paths in zip(scene_paths, loaded, all_paths,
+        for scene_path, (scene, wavelengths, integrator), paths in zip(scene_paths, loaded,
+                                                                       all_paths,
                                                             strict=True):
-            code = _render_one(scene_path, scene, wavelengths, paths, params, args, client)
+            code = _render_one(scene_path, scene, wavelengths, paths, params, args, client,
+                               integrator)
             if code:
                 return code
     if len(scene_paths) > 1:
@@ -154,21 +160,22 @@ def run(args) -> int:
     return 0
 
 
-def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> int:
+def _render_one(scene_path, scene, wavelengths, paths, params, args, client,
+                integrator=None) -> int:
     spp = args.spp or scene_spp(scene)
     where = ""
     if client is not None:
         where = f", {len(client.scheduler_info(n_workers=-1)['workers'])} workers"
     print(f"rendering {scene_path.name}: {spp} spp, {args.variant}, seed {args.seed}{where}",
           file=sys.stderr, flush=True)
-    result = _render_with_progress(scene, spp, args, client, scene_path, params)
+    result = _render_with_progress(scene, spp, args, client, scene_path, params, integrator)
     if result.spp == 0:
         print("interrupted before the first pass finished: nothing written", file=sys.stderr)
         return 130
     if result.nonfinite:
         print(f"warning: {result.nonfinite} pixel values were NaN or infinite and were set to 0",
               file=sys.stderr)
-    _write_outputs(result, paths, wavelengths, args, scene_path)
+    _write_outputs(result, paths, wavelengths, args, scene_path, scene, integrator)
     rate = result.samples_per_second
     passes = f"{result.passes} pass{'' if result.passes == 1 else 'es'}"
     print(f"{scene_path.name}: {result.spp} spp in {passes}, {result.seconds:.2f} s, "
@@ -179,7 +186,8 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client) -> 
     return 0
 
 
-def _render_with_progress(scene, spp, args, client=None, scene_path=None, params=None):
+def _render_with_progress(scene, spp, args, client=None, scene_path=None, params=None,
+                          integrator=None):
     from spectrace.passes import render_passes
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
@@ -196,10 +204,11 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
         if groups is None and type(scene.integrator()).__name__ == "LightGroups":
             groups = True  # the scene's own lightgroups integrator: write its layers
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
-                             on_pass=on_pass, light_groups=groups)
+                             on_pass=on_pass, light_groups=groups, integrator=integrator)
 
 
-def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
+def _write_outputs(result, paths, wavelengths, args, scene_path, scene=None,
+                   integrator=None) -> None:
     from spectrace.images import write_exr, write_png
 
     header = {
@@ -210,6 +219,9 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         "film": args.film,
     }
     rgb = result.pixels  # a Dr.Jit tensor from the local loop: written by mi.Bitmap
+    if result.light_groups is not None:
+        _write_layers(result, paths, wavelengths, header, scene, integrator)
+        return
     if wavelengths is not None:
         from spectrace.spectral import write_spectral_exr
         from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands
@@ -218,13 +230,31 @@ def _write_outputs(result, paths, wavelengths, args, scene_path) -> None:
         rgb = bands_to_linear_srgb(bands, wavelengths)
         write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
                            attributes=header)
-    if result.light_groups is not None:
-        from spectrace.lightgroups import split, write_layers_exr
+    write_exr(paths["exr"], rgb, header)
+    write_png(paths["png"], rgb)
 
-        rgb, layers = split(result.image, result.light_groups)
-        write_layers_exr(paths["exr"], rgb, layers, header)
+
+def _write_layers(result, paths, wavelengths, header, scene, integrator) -> None:
+    """The EXR with light-group layers (and with --film spectral the spectral one, whose
+    bands also make the RGB beauty and layers), and the PNG."""
+    from spectrace import lightgroups
+    from spectrace.images import write_png
+
+    names = result.light_groups
+    if wavelengths is None:
+        rgb, layers = lightgroups.split(result.image, names)
     else:
-        write_exr(paths["exr"], rgb, header)
+        from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands
+
+        _, raw = lightgroups.split(result.image, names, per_layer=len(wavelengths))
+        bands = {g: film_to_bands(v, wavelengths) for g, v in raw.items()}
+        total = sum(bands.values())
+        layers = {g: bands_to_linear_srgb(v, wavelengths) for g, v in bands.items()}
+        rgb = bands_to_linear_srgb(total, wavelengths)
+        spectra = lightgroups.group_spectra(scene, integrator.groups, wavelengths)
+        lightgroups.write_spectral_layers_exr(paths["spectral"], total, bands, wavelengths,
+                                              rgb, spectra, header)
+    lightgroups.write_layers_exr(paths["exr"], rgb, layers, header)
     write_png(paths["png"], rgb)
 
 

@@ -67,7 +67,7 @@ def test_relight_dims_one_layer(layered, tmp_path, capsys):
     ("nope=0.5", "no light group 'nope'"),
     ("emitter1=-0.5", "'emitter1' must be a finite number >= 0"),
     ("emitter1=nan", "'emitter1' must be"),
-    ("emitter1=1,FL2", "a new spectrum needs spectral layers"),
+    ("emitter1=1,FL2", "needs the spectral layers"),
 ])
 def test_relight_bad_input_writes_nothing(layered, tmp_path, capsys, light, words):
     """A group not in the file, a scale < 0 or NaN, a spectrum for RGB layers: one line
@@ -93,11 +93,9 @@ def test_relight_of_a_file_without_layers(tmp_path, capsys):
      "'emitter0' is in two light groups"),
     (["--light-group", "a.b=emitter0"], "letters, digits"),
     (["--light-groups", "--workers", "1"], "--workers"),
-    (["--light-groups", "--film", "spectral", "--variant", "llvm_ad_spectral"],
-     "spectral layers"),
 ])
 def test_render_bad_groups_write_nothing(tmp_path, capsys, options, words):
-    """An unknown emitter id, the same emitter in two groups, a bad group name, options
+    """An unknown emitter id, the same emitter in two groups, a bad group name, an option
     light groups do not support yet: one line naming it, exit 2, nothing written."""
     out = tmp_path / "x.exr"
     assert main(["render", str(SHOWCASE), "-o", str(out), *TINY, *options]) == EXIT_USAGE
@@ -142,3 +140,37 @@ def test_a_scene_of_the_lightgroups_integrator_writes_its_layers(tmp_path):
     assert list(layers) == ["key", "sky"] and layers["key"].max() > 0
     np.testing.assert_allclose(sum(layers.values()), beauty, rtol=0,
                                atol=SUM_RTOL * beauty.max())
+
+
+def test_spectral_layers_and_a_new_lamp_spectrum(tmp_path, capsys):
+    """--film spectral --light-groups: OUT.spectral.exr holds the spectral beauty (read by
+    the Fichet reader) and <group>.S0.* layers summing to it, with each group's probed
+    lamp spectrum; OUT.exr their RGB. relight -L g=s,FL2 on it writes the three outputs,
+    records FL2 for the group; an unknown SPD is one line, nothing written."""
+    from spectrace.spectral import read_spectral_exr
+
+    out = tmp_path / "s.exr"
+    assert main(["render", str(SHOWCASE), "-o", str(out), "-D", "res=16", "--spp", "4",
+                 "-q", "--light-groups", "--film", "spectral", "--bands", "8"]) == 0
+    spectral = tmp_path / "s.spectral.exr"
+    bands, layers, wl, spectra, _ = lightgroups.read_spectral_layers_exr(spectral)
+    assert bands.shape == (16, 16, 8) and list(layers) == SHOWCASE_GROUPS
+    np.testing.assert_allclose(sum(layers.values()), bands, rtol=1e-5, atol=1e-7)
+    np.testing.assert_array_equal(read_spectral_exr(spectral)[0], bands)
+    assert all(s is not None and s.max() == 1.0 for s in spectra.values())
+    rgb, rgb_layers, _ = lightgroups.read_layers_exr(out)
+    np.testing.assert_allclose(sum(rgb_layers.values()), rgb, rtol=0, atol=SUM_RTOL * rgb.max())
+
+    relit = tmp_path / "r.exr"
+    assert main(["relight", str(spectral), "-L", "emitter1=0.5,FL2", "-o", str(relit)]) == 0
+    for p in (relit, relit.with_suffix(".png"), tmp_path / "r.spectral.exr"):
+        assert p.is_file(), p
+    _, _, _, new_spectra, header = lightgroups.read_spectral_layers_exr(
+        tmp_path / "r.spectral.exr")
+    assert not np.allclose(new_spectra["emitter1"], spectra["emitter1"])
+    assert header["relight"] == "emitter1=0.5;emitter1:FL2"
+    capsys.readouterr()
+    bad = tmp_path / "bad.exr"
+    assert main(["relight", str(spectral), "-L", "emitter1=1,NOPE", "-o", str(bad)]) == 2
+    assert_one_line_error(capsys, "NOPE")
+    assert not bad.exists() and not (tmp_path / "bad.spectral.exr").exists()

@@ -52,12 +52,15 @@ def _envmap():
     return mi.Bitmap(rgb.astype(np.float32))
 
 
-def make_scene(case: str, spot_scale: float = 1.0, **integrator) -> mi.Scene:
+def make_scene(case: str, spot_scale: float = 1.0, lamp_intensity=8.0,
+               **integrator) -> mi.Scene:
     """A floor, a rough-plastic sphere and a glass sphere under the lights of ``case``
-    (the spot light's intensity times ``spot_scale``)."""
+    (the spot light's intensity times ``spot_scale``; the point light 'lamp' of 'delta'
+    with ``lamp_intensity``)."""
     lights = {
         "delta": {
-            "lamp": {"type": "point", "position": [-1.5, 3.0, 1.5], "intensity": 8.0},
+            "lamp": {"type": "point", "position": [-1.5, 3.0, 1.5],
+                     "intensity": lamp_intensity},
             "spot": {"type": "spotlight", "to_world": _look_at([2, 3, 2], [0, 0, 0]),
                      "intensity": {"type": "rgb",
                                    "value": [20 * spot_scale, 14 * spot_scale, 8 * spot_scale]}},
@@ -276,3 +279,74 @@ def test_unknown_and_missing_emitters_are_refused(variant_rgb):
         lightgroups.integrator_for(scene, True, own)
     with pytest.raises(ParameterError, match="'path' or 'direct'"):
         lightgroups.integrator_for(scene, True, mi.load_dict({"type": "volpath"}))
+
+
+#: Spectral layers (16 bands over 400-700 nm) against the film's RGB of the same render:
+#: the band discretisation (relative RMS over pixels).
+BAND_RTOL = 0.02
+BANDS = 16
+#: A lamp relit from illuminant A to FL2 against a fresh render with FL2 at RELIGHT_SPP:
+#: the mean colour of the image within the band discretisation (measured 0.25 %) ...
+RELIGHT_MEAN_RTOL = 0.01
+#: ... and the pixels within the spectral noise of the fresh render (FL2's lines are hit
+#: by few of its sampled wavelengths; measured relative RMS 4-5 %).
+RELIGHT_PIXEL_RTOL = 0.1
+RELIGHT_SPP = 64
+
+
+def _lamp_scene(lamp_spectrum: dict) -> mi.Scene:
+    """The 'delta' scene with its point light 'lamp' emitting ``lamp_spectrum``."""
+    return make_scene("delta", lamp_intensity=lamp_spectrum, max_depth=4)
+
+
+def _spectral_layers(scene, seed, spp=SPP):
+    from spectrace.spectral_film import band_centres, film_to_bands
+
+    wl = band_centres(BANDS)
+    integ = lightgroups.integrator_for(scene, True, band_wavelengths=wl)
+    result = spectrace.render(scene, spp=spp, seed=seed, integrator=integ, light_groups=True)
+    beauty, raw = lightgroups.split(result.image, result.light_groups, per_layer=BANDS)
+    return wl, beauty, {g: film_to_bands(v, wl) for g, v in raw.items()}
+
+
+def test_spectral_layers_give_the_film_colour(variant_spectral):
+    """The band layers (16 hat bands) of a render, summed and converted to linear sRGB,
+    give the RGB film's beauty of the same render within the band discretisation."""
+    from spectrace.spectral_film import bands_to_linear_srgb
+
+    scene = make_scene("area", max_depth=4)
+    wl, beauty, bands = _spectral_layers(scene, seed=5)
+    rgb = bands_to_linear_srgb(sum(bands.values()), wl)
+    rms = np.sqrt(np.mean((rgb - beauty) ** 2)) / beauty.mean()
+    assert rms < BAND_RTOL, rms
+
+
+def test_new_lamp_spectrum_by_relighting_equals_a_fresh_render(variant_spectral):
+    """Relighting the spectral layer of a lamp of illuminant A's spectrum with FL2's (same
+    luminous output over the bands) gives the image of a fresh render whose lamp emits
+    that FL2 (same seed: same paths), within the band discretisation in the mean colour
+    and the fresh render's spectral noise per pixel; the probed lamp spectrum is A's."""
+    import colour
+    from spectrace.spectral import to_mitsuba_spectrum
+
+    from spectrace.spectral_film import bands_to_linear_srgb
+
+    A = colour.SDS_ILLUMINANTS["A"]
+    FL2 = colour.SDS_ILLUMINANTS["FL2"]
+    scene = _lamp_scene(to_mitsuba_spectrum(A.wavelengths, A.values * 0.05))
+    wl, _, bands = _spectral_layers(scene, seed=3, spp=RELIGHT_SPP)
+    spectra = lightgroups.group_spectra(scene, {g: [g] for g in bands}, wl)
+    A_c = lightgroups.band_averages(A.wavelengths, A.values, wl)
+    np.testing.assert_allclose(spectra["lamp"], A_c / A_c.max(), rtol=1e-3)
+    relit, _ = lightgroups.relight_spectral(bands, wl, {}, {"lamp": (FL2.wavelengths,
+                                                                     FL2.values)}, spectra)
+    V = lightgroups.band_averages(*lightgroups._photopic(), wl)
+    FL2_c = lightgroups.band_averages(FL2.wavelengths, FL2.values, wl)
+    k = 0.05 * np.sum(V * A_c) / np.sum(V * FL2_c)
+    fresh_scene = _lamp_scene(to_mitsuba_spectrum(FL2.wavelengths, FL2.values * k))
+    _, _, fresh = _spectral_layers(fresh_scene, seed=3, spp=RELIGHT_SPP)
+    a = bands_to_linear_srgb(relit, wl)
+    b = bands_to_linear_srgb(sum(fresh.values()), wl)
+    np.testing.assert_allclose(a.mean(axis=(0, 1)), b.mean(axis=(0, 1)),
+                               rtol=RELIGHT_MEAN_RTOL)
+    assert np.sqrt(np.mean((a - b) ** 2)) / b.mean() < RELIGHT_PIXEL_RTOL
