@@ -21,15 +21,27 @@ When the render replaces the integrator (:func:`integrator_for`): a scene whose
 integrator is ``path`` keeps its ``max_depth``, ``rr_depth`` and ``hide_emitters``;
 ``direct`` becomes the same path tracer with ``max_depth`` 2 (direct light and the emitters
 seen directly: the same image in expectation, with its own noise); a scene already using
-``lightgroups`` keeps it. Other integrators (``local``, ``illuminance``, ``volpath``, ...)
-are refused for now.
+``lightgroups`` keeps it. Other integrators (``local``, ``illuminance``, ``volpath``, ...),
+films with a sensor response (``specfilm``) and polarized variants are refused for now.
+
+Spectral layers
+---------------
+With ``band_wavelengths`` (``--film spectral``) the integrator's layers are N hat bands per
+group (the bands of :mod:`spectrace.spectral_film`) on the scene's RGB film, as Mitsuba
+3.9's ``specfilm`` cannot hold AOVs; :func:`write_spectral_layers_exr` writes the
+spectral beauty (their sum) as ``S0.<wl>nm`` channels in the layout of Fichet et al. 2021
+beside ``<group>.S0.<wl>nm`` layers, with each group's lamp spectrum probed from its
+emitters (:func:`group_spectra`, band-averaged, peak 1; absent when the group's emitters
+differ) in the header attribute ``<group>.spectrum``.
 
 Relighting
 ----------
 :func:`relight` scales each layer (dimming): ``sum_g s_g L_g``; groups not named keep
-scale 1. Changing a light's *spectrum* after the render needs spectral layers; on these
-RGB layers it is refused (:class:`~spectrace.errors.ParameterError`): scaling the RGB of a
-layer by the new lamp's RGB over the old one is wrong for coloured surfaces (metamerism).
+scale 1. :func:`relight_spectral` also gives a group a new lamp spectrum: its spectral
+layer times S_new / S_old band by band, S_new scaled to the same luminous output, exact up
+to the band discretisation. On RGB layers a new spectrum is refused
+(:class:`~spectrace.errors.ParameterError`): scaling the RGB of a layer by the new lamp's
+RGB over the old one is wrong for coloured surfaces (metamerism).
 """
 
 from __future__ import annotations

@@ -106,3 +106,68 @@ def test_split_takes_the_layers_after_the_film_channels():
     np.testing.assert_array_equal(layers["b"], pixels[..., 7:10])
     with pytest.raises(ParameterError, match="cannot hold"):
         lightgroups.split(pixels, ["a", "b", "c", "d"])
+
+
+WL = np.linspace(400.0, 700.0, 7)  # band centres, 50 nm apart
+
+
+def test_band_averages_of_constant_and_linear_spectra():
+    """A constant spectrum averages to itself in every band, a linear one to its value at
+    the centre of the inner (symmetric) bands; a line inside one band only lights the
+    bands whose hats cover it."""
+    np.testing.assert_allclose(lightgroups.band_averages([380, 780], [2.0, 2.0], WL), 2.0)
+    linear = lightgroups.band_averages([380, 780], [380, 780], WL)
+    np.testing.assert_allclose(linear[1:-1], WL[1:-1], rtol=1e-9)
+    line = lightgroups.band_averages([519, 520, 521], [0, 1, 0], WL)
+    assert np.count_nonzero(line) == 2 and line[2] > line[3] > 0  # 520 nm: bands 500, 550
+
+
+def test_spectral_layers_round_trip(tmp_path, rng):
+    """Beauty S0.* (read by the Fichet reader), <group>.S0.* layers, R, G, B preview and
+    the recorded lamp spectra come back as written; a group without a spectrum has None."""
+    from spectrace.spectral import read_spectral_exr
+
+    layers = {g: rng.random((3, 4, WL.size), dtype=np.float32) for g in ("a", "b")}
+    total = sum(layers.values())
+    spectra = {"a": np.linspace(0.5, 1.0, WL.size), "b": None}
+    path = lightgroups.write_spectral_layers_exr(tmp_path / "s.exr", total, layers, WL,
+                                                 np.zeros((3, 4, 3)), spectra, {"spp": 2})
+    bands, back, wl, got, header = lightgroups.read_spectral_layers_exr(path)
+    np.testing.assert_array_equal(bands, total)
+    np.testing.assert_array_equal(back["b"], layers["b"])
+    np.testing.assert_allclose(wl, WL)
+    np.testing.assert_allclose(got["a"], spectra["a"], rtol=1e-8)
+    assert got["b"] is None and header["spp"] == 2
+    np.testing.assert_array_equal(read_spectral_exr(path)[0], total)
+    assert lightgroups.is_spectral_layers_file(path)
+
+
+def test_relight_spectral_swaps_a_lamp_spectrum(rng):
+    """A group lit by a flat lamp relit with a spectrum rising across the bands: its layer
+    times new / old band by band, at the same luminous output (sum of V S over the bands);
+    the others only scaled."""
+    layers = {g: rng.random((2, 2, WL.size), dtype=np.float32) for g in ("lamp", "sky")}
+    old = {"lamp": np.ones(WL.size), "sky": None}
+    new = (WL, np.linspace(1.0, 3.0, WL.size))
+    image, scaled = lightgroups.relight_spectral(layers, WL, {"sky": 0.5}, {"lamp": new}, old)
+    V = lightgroups.band_averages(*lightgroups._photopic(), WL)
+    S = lightgroups.band_averages(*new, WL)
+    factor = S * np.sum(V) / np.sum(V * S)
+    np.testing.assert_allclose(scaled["lamp"], layers["lamp"] * factor, rtol=1e-5)
+    np.testing.assert_allclose(image, scaled["lamp"] + 0.5 * layers["sky"], rtol=1e-5)
+
+
+def test_relight_spectral_errors(rng):
+    """No recorded old spectrum, a negative new one, an old one that is 0 where the new
+    one is not, a group not in the layers: each one ParameterError naming the group."""
+    layers = {"lamp": rng.random((2, 2, WL.size), dtype=np.float32)}
+    flat = (WL, np.ones(WL.size))
+    dark = np.where(WL < 500, 0.0, 1.0)
+    for old, new, group, words in [
+        ({"lamp": None}, flat, "lamp", "not recorded"),
+        ({"lamp": np.ones(WL.size)}, (WL, -np.ones(WL.size)), "lamp", "negative"),
+        ({"lamp": dark}, flat, "lamp", "is 0 where"),
+        ({"lamp": np.ones(WL.size)}, flat, "nope", "no light group 'nope'"),
+    ]:
+        with pytest.raises(ParameterError, match=words):
+            lightgroups.relight_spectral(layers, WL, {}, {group: new}, old)

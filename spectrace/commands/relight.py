@@ -1,13 +1,17 @@
 """``spectrace relight LAYERS.exr -L GROUP=SCALE[,SPECTRUM] ... -o OUT.exr``: new light
-intensities from the light-group layers of one render, without rendering again.
+intensities, and from spectral layers new lamp spectra, from the light-group layers of one
+render, without rendering again.
 
-LAYERS.exr is what ``spectrace render --light-groups`` (or ``--light-group``) writes. Each
-``-L`` scales one group's layer (0 switches it off, 0.3 dims it to 30 %); groups not named
-keep their intensity. OUT.exr holds the new beauty (R, G, B) and the scaled layers, so it
-can be relit again; an sRGB PNG is written beside it. A new lamp spectrum (``,SPECTRUM``)
-needs spectral layers, which these RGB layers are not: it is refused (see
-:mod:`spectrace.lightgroups`). Bad input (a group not in the file, a scale < 0 or NaN):
-one line, exit 2, nothing written.
+LAYERS.exr is what ``spectrace render --light-groups`` (or ``--light-group``) writes; with
+``--film spectral`` it also writes LAYERS.spectral.exr, the spectral layers. Each ``-L``
+scales one group's layer (0 switches it off, 0.3 dims it to 30 %); groups not named keep
+their intensity. ``,SPECTRUM`` (an SPD file or a colour-science name: FL2, A, D65, LED
+names...) gives the group's lamps that spectrum at the same luminous output; it needs the
+spectral layers and is refused on RGB ones (see :mod:`spectrace.lightgroups`). OUT.exr
+holds the new beauty (R, G, B) and the scaled layers, so it can be relit again, an sRGB
+PNG is written beside it, and from spectral layers OUT.spectral.exr too. Bad input (a
+group not in the file, a scale < 0 or NaN, an unknown or negative SPD): one line, exit 2,
+nothing written.
 """
 
 from __future__ import annotations
