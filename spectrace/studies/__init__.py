@@ -10,7 +10,8 @@ tested (``tests/studies/``) and shared:
 * :mod:`spectrace.studies.light_falloff`: distance laws, cone falloffs and fog laws in
   closed form, and the floor-irradiance measurement (``light_falloff.ipynb``).
 * :mod:`spectrace.studies.light_compositing`: one layer per luminaire from one render,
-  superposition, light scenes by relighting (``light_compositing.ipynb``).
+  superposition, light scenes and new lamp spectra by relighting
+  (``light_compositing.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what

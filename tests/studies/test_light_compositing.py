@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import spectrace
 from spectrace.studies import light_compositing as study
 
 RES, SPP = 16, 16
@@ -45,3 +46,28 @@ def test_layers_and_separate_renders_sum_to_all_on(variant_rgb):
                                layers["table_left"] + layers["table_right"], rtol=1e-6)
     rows = study.linearity_rows(beauty, layers, alone)
     assert len(rows) == 2 and abs(float(rows[0][1])) < SUM_RTOL
+
+
+def test_lamp_change_methods(variant_spectral):
+    """The spectral relight to the lamps' own spectrum gives back the layers' image (the
+    probed spectrum is the LED's), the RGB shortcut is the identity for the same lamp and
+    D65's RGB is white; a 4000 K LED relit from spectral layers is closer to the fresh
+    render in CIEDE2000 than the RGB shortcut."""
+    from spectrace.spectral_film import bands_to_linear_srgb
+
+    np.testing.assert_allclose(study.lamp_rgb("D65"), 1.0, atol=2e-3)
+    led = study.LAMPS["3000 K LED"]
+    scene = study.load_room(RES, SPP)
+    wl, layers, spectra = study.render_spectral_layers(scene, SPP)
+    same = study.spectral_relight(layers, wl, spectra, led)
+    np.testing.assert_allclose(same, bands_to_linear_srgb(sum(layers.values()), wl),
+                               rtol=2e-3, atol=1e-5)
+    beauty, _ = study.render_layers(scene, SPP)
+    np.testing.assert_allclose(study.rgb_relight(beauty, led, led), beauty, rtol=1e-6)
+    lamp = study.LAMPS["4000 K LED"]
+    fresh = {"4000 K LED": spectrace.render(study.load_room(RES, SPP, lamp=lamp),
+                                            spp=SPP).image[..., :3]}
+    rows = study.lamp_change_rows({"4000 K LED": {
+        "spectral": study.spectral_relight(layers, wl, spectra, lamp),
+        "rgb": study.rgb_relight(beauty, led, lamp)}}, fresh)
+    assert float(rows[0][2]) < float(rows[1][2])
