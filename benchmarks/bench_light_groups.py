@@ -18,7 +18,9 @@ splats every AOV channel with the filter, so the layers' cost there is Mitsuba's
 Relighting: 8 RGB layers of 1024 x 1024 (random data, which ZIP cannot compress: the worst
 case for the EXR steps): reading the layered EXR, ``lightgroups.relight`` (aim < 0.5 s),
 writing the EXR (beauty and scaled layers) and the PNG (what ``spectrace relight`` does),
-each the best of REPEATS.
+each the best of REPEATS. Then 8 spectral layers of 16 bands (about 0.5 GB of float32):
+reading the spectral EXR, and ``relight_spectral`` dimming and with a new lamp spectrum
+(aim: within 1.5x of the read).
 
 Run: .venv/bin/python benchmarks/bench_light_groups.py [--spp N] [--res N] [--repeats N]
 """
@@ -36,6 +38,7 @@ import spectrace
 
 RELIGHT_RES = 1024
 GROUPS = 8
+SPECTRAL_BANDS = 16
 #: The film's reconstruction filters: hdrfilm's default ``gaussian`` splats every channel
 #: (the 24 of 8 layers too) into 4 x 4 pixels, ``box`` into one.
 FILTERS = ("gaussian", "box")
@@ -144,6 +147,44 @@ def relight_rows(repeats: int):
     return [(k, min(v)) for k, v in steps.items()]
 
 
+def spectral_relight_rows(repeats: int):
+    """8 spectral layers of SPECTRAL_BANDS bands (about 0.5 GB of float32): reading them
+    from the EXR, dimming them, and giving one group a new lamp spectrum."""
+    import numpy as np
+
+    from spectrace import lightgroups
+    from spectrace.spectral_film import band_centres
+
+    rng = np.random.default_rng(2)
+    wl = band_centres(SPECTRAL_BANDS)
+    shape = (RELIGHT_RES, RELIGHT_RES, SPECTRAL_BANDS)
+    layers = {f"light{i}": rng.random(shape, dtype=np.float32) for i in range(GROUPS)}
+    spectra = {g: np.ones(SPECTRAL_BANDS) for g in layers}
+    new = {"light0": (wl, np.linspace(0.5, 1.5, wl.size))}
+    steps = {"read spectral EXR": [], "relight_spectral(), dimming": [],
+             "relight_spectral(), a new spectrum": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "layers.spectral.exr"
+        total = sum(layers.values())
+        lightgroups.write_spectral_layers_exr(src, total, layers, wl,
+                                              np.zeros(shape[:2] + (3,)), spectra)
+        del layers, total
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            _, read, wl, old, _ = lightgroups.read_spectral_layers_exr(src)
+            t1 = time.perf_counter()
+            lightgroups.relight_spectral(read, wl, {"light1": 0.5}, {}, old)
+            t2 = time.perf_counter()
+            lightgroups.relight_spectral(read, wl, {"light1": 0.5}, new, old)
+            t3 = time.perf_counter()
+            for key, t in zip(steps, (t1 - t0, t2 - t1, t3 - t2), strict=True):
+                steps[key].append(t)
+            del read
+    best = {k: min(v) for k, v in steps.items()}
+    read = best["read spectral EXR"]
+    return [(k, v, v / read) for k, v in best.items()]
+
+
 def main(argv=None) -> int:
     args = render_parser(__doc__, repeats=3).parse_args(argv)
     rows = render_rows(args)
@@ -159,6 +200,11 @@ def main(argv=None) -> int:
           f"{args.repeats}")
     print_table([("step", ">36", ""), ("seconds", ">8", ".3f")],
                 relight_rows(args.repeats), sep="  ")
+    print()
+    print(f"relight {RELIGHT_RES}x{RELIGHT_RES}, {GROUPS} spectral layers of "
+          f"{SPECTRAL_BANDS} bands, best of {args.repeats}")
+    print_table([("step", ">36", ""), ("seconds", ">8", ".3f"), ("/ read", ">7", ".2f")],
+                spectral_relight_rows(args.repeats), sep="  ")
     return 0
 
 

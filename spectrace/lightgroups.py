@@ -474,6 +474,7 @@ def write_spectral_layers_exr(path, bands, layers: Mapping, wavelengths, preview
            "spectralLayoutVersion": LAYOUT_VERSION, "emissiveUnits": DEFAULT_EMISSIVE_UNITS}
     hdr.update(header or {})
     hdr["lightGroups"] = ",".join(layers)
+    hdr["bandWavelengths"] = ",".join(repr(float(w)) for w in wavelengths)  # exact
     for g, values in (spectra or {}).items():
         if values is not None:
             hdr[f"{g}.spectrum"] = _spectrum_attribute(values)
@@ -488,34 +489,43 @@ def write_spectral_layers_exr(path, bands, layers: Mapping, wavelengths, preview
 
 def read_spectral_layers_exr(path):
     """``(bands (H, W, N), {group: (H, W, N)}, wavelengths, spectra, header)`` of
-    :func:`write_spectral_layers_exr`'s file; ``spectra``: group -> relative lamp spectrum
-    at the wavelengths, or None. FileFormatError for a file without spectral layers."""
+    :func:`write_spectral_layers_exr`'s file (read once); ``spectra``: group -> relative
+    lamp spectrum at the wavelengths, or None. FileAccessError for a missing file,
+    FileFormatError for one without spectral layers."""
     import numpy as np
-
-    from spectrace.spectral import read_spectral_exr
-
-    bands, wavelengths, header = read_spectral_exr(path, kind="emissive", with_header=True)
-    names = [g for g in str(header.get("lightGroups", "")).split(",") if g]
-    layers = {}
     import OpenEXR
 
-    with OpenEXR.File(str(path), separate_channels=True) as f:
-        channels = f.channels()
-        from spectrace.spectral.exr import spectral_channel_name
+    from spectrace.spectral.exr import spectral_channel_name
 
-        for g in names:
-            keys = [f"{g}.{spectral_channel_name(w)}" for w in wavelengths]
-            if not all(k in channels for k in keys):
-                raise FileFormatError(f"{path}: spectral layer {g!r} lacks some of its bands")
-            layers[g] = np.stack([np.asarray(channels[k].pixels, np.float32) for k in keys],
+    path = Path(path)
+    if not path.is_file():
+        raise FileAccessError(f"{path}: no such file")
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as f:
+            header = dict(f.header())
+            channels = {k: v.pixels for k, v in f.channels().items()}
+    except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
+        raise FileFormatError(f"{path}: not a readable OpenEXR file ({e})") from None
+    names = [g for g in str(header.get("lightGroups", "")).split(",") if g]
+    text = header.get("bandWavelengths")
+    if not names or text is None:
+        raise FileFormatError(f"{path}: no spectral light-group layers (<group>.S0.*); "
+                              "render it with --film spectral and light groups")
+    wavelengths = np.array([float(v) for v in str(text).split(",")])
+    bands = {}
+    for prefix in ["", *(f"{g}." for g in names)]:
+        keys = [prefix + spectral_channel_name(w) for w in wavelengths]
+        if not all(k in channels for k in keys):
+            raise FileFormatError(f"{path}: spectral layer {prefix or 'beauty'!r} lacks "
+                                  "some of its bands")
+        bands[prefix] = np.stack([np.asarray(channels.pop(k), np.float32) for k in keys],
                                  axis=-1)
-    if not layers:
-        raise FileFormatError(f"{path}: no spectral light-group layers (<group>.S0.*)")
     spectra = {}
-    for g in layers:
+    for g in names:
         text = header.get(f"{g}.spectrum")
         spectra[g] = None if text is None else np.array([float(v) for v in str(text).split(",")])
-    return bands, layers, np.asarray(wavelengths, np.float64), spectra, header
+    layers = {g: bands[f"{g}."] for g in names}
+    return bands[""], layers, wavelengths, spectra, header
 
 
 def is_spectral_layers_file(path) -> bool:
