@@ -253,23 +253,30 @@ def _atomic_write(path: Path, write) -> None:
             os.unlink(tmp)
 
 
-def write_layers_exr(path, beauty, layers: Mapping, header: Mapping | None = None) -> Path:
-    """Write float32 channels R, G, B (the beauty) and ``<group>.R/G/B`` for each layer
-    (each (H, W, 3) linear sRGB) with extra header attributes, atomically; the header's
-    ``lightGroups`` attribute lists the groups in order."""
+def _layer_channels(beauty, layers: Mapping, names: list[str]) -> dict:
+    """Float32 channels: ``names`` of the beauty, ``<group>.<name>`` of each layer."""
     import numpy as np
-    import OpenEXR
 
-    path = Path(path)
     channels = {}
     for prefix, image in [("", beauty), *((f"{check_group_name(k)}.", v)
                                           for k, v in layers.items())]:
         image = np.asarray(image, dtype=np.float32)
-        for c, name in enumerate(CHANNELS):
-            channels[prefix + name] = np.ascontiguousarray(image[..., c])
-    hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+        for i, name in enumerate(names):
+            channels[prefix + name] = np.ascontiguousarray(image[..., i])
+    return channels
+
+
+def _write_channels(path, channels: dict, attributes: dict, header: Mapping | None,
+                    groups) -> Path:
+    """The channels as a ZIP-compressed scanline EXR with the attributes, the extra header
+    and ``lightGroups``, atomically."""
+    import OpenEXR
+
+    path = Path(path)
+    hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
+           **attributes}
     hdr.update(header or {})
-    hdr["lightGroups"] = ",".join(layers)
+    hdr["lightGroups"] = ",".join(groups)
 
     def write(tmp):
         with OpenEXR.File(hdr, channels) as f:
@@ -279,11 +286,9 @@ def write_layers_exr(path, beauty, layers: Mapping, header: Mapping | None = Non
     return path
 
 
-def read_layers_exr(path):
-    """``(beauty (H, W, 3), {group: (H, W, 3)}, header)`` of a layered EXR (groups in the
-    order of its ``lightGroups`` attribute, else sorted). FileAccessError for a missing file,
-    FileFormatError for one without R, G, B or without layers."""
-    import numpy as np
+def _read_channels(path) -> tuple[dict, dict]:
+    """(header, channel name -> pixels) of an EXR; FileAccessError for a missing file,
+    FileFormatError for an unreadable one."""
     import OpenEXR
 
     path = Path(path)
@@ -291,11 +296,27 @@ def read_layers_exr(path):
         raise FileAccessError(f"{path}: no such file")
     try:
         with OpenEXR.File(str(path), separate_channels=True) as f:
-            header = dict(f.header())
-            channels = {k: np.asarray(v.pixels, dtype=np.float32)
-                        for k, v in f.channels().items()}
+            return dict(f.header()), {k: v.pixels for k, v in f.channels().items()}
     except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
         raise FileFormatError(f"{path}: not a readable OpenEXR file ({e})") from None
+
+
+def write_layers_exr(path, beauty, layers: Mapping, header: Mapping | None = None) -> Path:
+    """Write float32 channels R, G, B (the beauty) and ``<group>.R/G/B`` for each layer
+    (each (H, W, 3) linear sRGB) with extra header attributes, atomically; the header's
+    ``lightGroups`` attribute lists the groups in order."""
+    return _write_channels(path, _layer_channels(beauty, layers, CHANNELS), {}, header, layers)
+
+
+def read_layers_exr(path):
+    """``(beauty (H, W, 3), {group: (H, W, 3)}, header)`` of a layered EXR (groups in the
+    order of its ``lightGroups`` attribute, else sorted). FileAccessError for a missing file,
+    FileFormatError for one without R, G, B or without layers."""
+    import numpy as np
+
+    path = Path(path)
+    header, channels = _read_channels(path)
+    channels = {k: np.asarray(v, dtype=np.float32) for k, v in channels.items()}
     if not all(c in channels for c in CHANNELS):
         raise FileFormatError(f"{path}: no R, G, B channels")
     beauty = np.stack([channels[c] for c in CHANNELS], axis=-1)
@@ -454,37 +475,17 @@ def write_spectral_layers_exr(path, bands, layers: Mapping, wavelengths, preview
     ``<group>.S0.<wl>nm``, float32, atomically. Header: the layout's attributes,
     ``lightGroups``, and ``<group>.spectrum``: the group's relative lamp spectrum at the
     band centres where known (``spectra``), what :func:`relight` needs for a new one."""
-    import numpy as np
-    import OpenEXR
-
     from spectrace.spectral.exr import DEFAULT_EMISSIVE_UNITS, LAYOUT_VERSION, spectral_channel_name
 
-    path = Path(path)
-    names = [spectral_channel_name(w) for w in wavelengths]
-    channels = {}
-    for prefix, image in [("", bands), *((f"{check_group_name(k)}.", v)
-                                         for k, v in layers.items())]:
-        image = np.asarray(image, dtype=np.float32)
-        for i, name in enumerate(names):
-            channels[prefix + name] = np.ascontiguousarray(image[..., i])
-    preview = np.asarray(preview, dtype=np.float32)
-    for c, name in enumerate(CHANNELS):
-        channels[name] = np.ascontiguousarray(preview[..., c])
-    hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
-           "spectralLayoutVersion": LAYOUT_VERSION, "emissiveUnits": DEFAULT_EMISSIVE_UNITS}
-    hdr.update(header or {})
-    hdr["lightGroups"] = ",".join(layers)
-    hdr["bandWavelengths"] = ",".join(repr(float(w)) for w in wavelengths)  # exact
+    channels = _layer_channels(bands, layers, [spectral_channel_name(w) for w in wavelengths])
+    channels.update(_layer_channels(preview, {}, CHANNELS))
+    attributes = {"spectralLayoutVersion": LAYOUT_VERSION,
+                  "emissiveUnits": DEFAULT_EMISSIVE_UNITS,
+                  "bandWavelengths": ",".join(repr(float(w)) for w in wavelengths)}  # exact
     for g, values in (spectra or {}).items():
         if values is not None:
-            hdr[f"{g}.spectrum"] = _spectrum_attribute(values)
-
-    def write(tmp):
-        with OpenEXR.File(hdr, channels) as f:
-            f.write(tmp)
-
-    _atomic_write(path, write)
-    return path
+            attributes[f"{g}.spectrum"] = _spectrum_attribute(values)
+    return _write_channels(path, channels, attributes, header, layers)
 
 
 def read_spectral_layers_exr(path):
@@ -493,19 +494,11 @@ def read_spectral_layers_exr(path):
     lamp spectrum at the wavelengths, or None. FileAccessError for a missing file,
     FileFormatError for one without spectral layers."""
     import numpy as np
-    import OpenEXR
 
     from spectrace.spectral.exr import spectral_channel_name
 
     path = Path(path)
-    if not path.is_file():
-        raise FileAccessError(f"{path}: no such file")
-    try:
-        with OpenEXR.File(str(path), separate_channels=True) as f:
-            header = dict(f.header())
-            channels = {k: v.pixels for k, v in f.channels().items()}
-    except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
-        raise FileFormatError(f"{path}: not a readable OpenEXR file ({e})") from None
+    header, channels = _read_channels(path)
     names = [g for g in str(header.get("lightGroups", "")).split(",") if g]
     text = header.get("bandWavelengths")
     if not names or text is None:
