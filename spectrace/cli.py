@@ -31,7 +31,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "lux": ("spectrace.commands.lux",
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
     "relight": ("spectrace.commands.relight",
-                "new light intensities from the light-group layers of a render"),
+                "new light intensities and lamp spectra from a render's light-group layers"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
 }

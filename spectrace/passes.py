@@ -168,8 +168,9 @@ def render_passes(
 
     ``light_groups`` (True, ``{name: [emitter ids]}`` or ``["name=id1,id2", ...]``) renders
     with the ``lightgroups`` integrator in place of ``integrator`` (see
-    :mod:`spectrace.lightgroups`): the pixels then end with three channels per group, whose
-    names are the result's ``light_groups`` (:func:`spectrace.lightgroups.split`).
+    :mod:`spectrace.lightgroups`): the pixels then end with three channels per group (N with
+    spectral layers), whose names are the result's ``light_groups``
+    (:func:`spectrace.lightgroups.split`).
 
     ``on_pass(done_spp, total_spp)`` is called after each pass (the CLI's progress bar).
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
