@@ -30,6 +30,7 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "integrators.fog",
     "integrators.local",
     "integrators.illuminance",
+    "integrators.lightgroups",
 )
 #: The modules that register no plugin of their own: the shared helpers, executed before any
 #: plugin module (the classes they define are rebuilt for the variant like the plugins).

@@ -34,6 +34,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "illuminance map in lux of a scene's view (EXR, false-colour PNG, U0)"),
     "view": ("spectrace.commands.view",
              "develop an EXR into a PNG: exposure, white balance, view transform"),
+    "relight": ("spectrace.commands.relight",
+                "new light intensities and lamp spectra from a render's light-group layers"),
     "sweep": ("spectrace.commands.sweep",
               "render the Cartesian product of scene parameters on Dask"),
     "validate": ("spectrace.commands.validate",

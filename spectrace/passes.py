@@ -60,7 +60,7 @@ class RenderResult:
     """
 
     __slots__ = ("pixels", "spp", "passes", "seconds", "interrupted", "nonfinite", "noise",
-                 "stopped_by", "_image")
+                 "stopped_by", "_image", "light_groups")
 
     def __init__(self, pixels, spp: int, passes: int, seconds: float, interrupted: bool,
                  nonfinite: int = 0, noise: float | None = None, stopped_by: str = "spp"):
@@ -74,6 +74,7 @@ class RenderResult:
         self.interrupted = interrupted
         self.nonfinite = nonfinite  # pixel values that were NaN or infinite, set to 0
         self._image = None
+        self.light_groups = None  # the group names of a light-group render (layers last)
 
     @property
     def image(self):
@@ -239,6 +240,7 @@ def render_passes(
     noise: float | None = None,
     time_limit: float | None = None,
     on_noise: Callable[[float], None] | None = None,
+    light_groups=None,
 ) -> RenderResult:
     """Render ``scene`` with ``spp`` samples per pixel in passes of ``spp_per_pass`` (None:
     :func:`default_spp_per_pass`); see the module docstring. A count that is not a positive
@@ -251,6 +253,12 @@ def render_passes(
     either, ``spp`` is the most it renders (None: :data:`UNTIL_CLEAN_MAX_SPP`); without,
     None means the scene's sample count. ``on_pass(done_spp, total_spp)`` is called after
     each pass (the CLI's progress bar), ``on_noise(estimate)`` too when ``noise`` is given.
+
+    ``light_groups`` (True, ``{name: [emitter ids]}`` or ``["name=id1,id2", ...]``) renders
+    with the ``lightgroups`` integrator in place of ``integrator`` (see
+    :mod:`spectrace.lightgroups`): the pixels then end with three channels per group (N with
+    spectral layers), whose names are the result's ``light_groups``
+    (:func:`spectrace.lightgroups.split`).
     Returns the sample-weighted mean of the passes (summed in float64) as a float32
     (H, W, C) tensor; NaN or infinite values (a plugin's bug) are set to 0 and counted in
     ``RenderResult.nonfinite``; ``RenderResult.noise`` is the estimate when ``noise`` or
@@ -267,6 +275,10 @@ def render_passes(
     seed, spp = check_seed(seed), int(spp)
     spp_per_pass = None if spp_per_pass is None else int(spp_per_pass)
     sizes = pass_sizes(spp, scene_spp_per_pass(scene, spp, spp_per_pass, sensor))
+    if light_groups is not None:
+        from spectrace.lightgroups import integrator_for
+
+        integrator = integrator_for(scene, light_groups, integrator, sensor)
     from spectrace.memory import check_pass
 
     check_pass(scene, sizes[0], sensor)  # the film and a pass fit (32-bit arrays, memory)
@@ -320,8 +332,11 @@ def render_passes(
     dr.eval(mean, bad)  # one kernel; ``seconds`` includes it
     nonfinite = int(dr.count(bad)[0])
     seconds = time.perf_counter() - start
-    return RenderResult(mi.TensorXf(mean, shape), done, index + 1, seconds, interrupted,
-                        nonfinite, estimate, stopped_by)
+    result = RenderResult(mi.TensorXf(mean, shape), done, index + 1, seconds, interrupted,
+                          nonfinite, estimate, stopped_by)
+    if light_groups is not None:
+        result.light_groups = list(integrator.names)
+    return result
 
 
 def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:

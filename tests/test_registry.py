@@ -177,7 +177,8 @@ def test_register_names_registers_only_those(variant_rgb):
     assert plugins.register({"phong"}, force=True) == ["phong"]
     assert plugins.register({"path", "diffuse"}) == []
     assert set(plugins.PLUGINS) == {"phong", "blinnphong", "pointlight", "spotlight",
-                                    "ieslight", "ciesky", "sun", "local", "illuminance"}
+                                    "ieslight", "ciesky", "sun", "local", "illuminance",
+                                    "lightgroups"}
 
 
 def test_plugin_modules_are_named_after_their_xml_type():

@@ -57,6 +57,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"spectral bands over 400-700 nm with --film spectral "
                         f"(default {DEFAULT_BANDS})")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    groups = parser.add_mutually_exclusive_group()
+    groups.add_argument("--light-groups", action="store_true",
+                        help="also write one layer per emitter (<id>.R/G/B in the EXR; "
+                        "the scene's integrator must be path or direct)")
+    groups.add_argument("--light-group", action="append", metavar="NAME=ID1,ID2",
+                        dest="light_group", help="a layer NAME of these emitters (repeat "
+                        "the option for more; emitters in no group form the group 'rest')")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
                        help="render the passes on a local Dask cluster of N worker processes")
@@ -126,6 +133,10 @@ def run(args) -> int:
             raise UsageError(f"--film spectral needs a spectral variant (got {args.variant})")
     elif args.bands is not None:
         raise UsageError("--bands applies only with --film spectral")
+    light_groups = _light_groups(args)
+    if light_groups is not None and (args.workers is not None or args.scheduler):
+        raise UsageError("--light-groups/--light-group: not supported with --workers or "
+                         "--scheduler yet")
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
     _check_run_options(args)
@@ -157,7 +168,13 @@ def run(args) -> int:
     loaded = []  # every scene loads before anything renders: a bad one costs no output
     for scene_path, root in zip(scene_paths, roots, strict=True):
         wavelengths = None
-        if args.film == "spectral":
+        if args.film == "spectral" and light_groups is not None:
+            # spectral layers on the scene's own film (lightgroups' band_wavelengths)
+            from spectrace.spectral_film import band_centres
+
+            wavelengths = band_centres(args.bands)
+            scene = load_scene(scene_path, params)
+        elif args.film == "spectral":
             from spectrace.spectral_film import replace_film
 
             wavelengths = replace_film(root, bands=args.bands)
@@ -166,7 +183,12 @@ def run(args) -> int:
             scene = load_scene(scene_path, params)
         check_pass(scene, scene_spp_per_pass(scene, args.spp or scene_spp(scene),
                                              args.spp_per_pass), name="--spp-per-pass")
-        loaded.append((scene, wavelengths, _photometric(root)))
+        integrator = None
+        if light_groups is not None:  # a bad group costs no render
+            from spectrace.lightgroups import integrator_for
+
+            integrator = integrator_for(scene, light_groups, band_wavelengths=wavelengths)
+        loaded.append((scene, wavelengths, _photometric(root), integrator))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         client = None
@@ -178,11 +200,11 @@ def run(args) -> int:
         for paths in all_paths:  # before rendering: a bad output path costs no render time
             for p in paths.values():
                 check_writable(p)
-        for scene_path, (scene, wavelengths, photometric), paths in zip(
+        for scene_path, (scene, wavelengths, photometric, integrator), paths in zip(
                 scene_paths, loaded, all_paths, strict=True):
             settings = display_settings(args, photometric)
             code = _render_one(scene_path, scene, wavelengths, paths, params, args, client,
-                               settings)
+                               settings, integrator)
             if code:
                 return code
     if len(scene_paths) > 1:
@@ -212,7 +234,8 @@ def _photometric(root) -> bool:
     return photometric_scene(root)
 
 
-def _render_one(scene_path, scene, wavelengths, paths, params, args, client, settings) -> int:
+def _render_one(scene_path, scene, wavelengths, paths, params, args, client, settings,
+                integrator=None) -> int:
     until_clean = args.noise is not None or args.time is not None
     if until_clean:
         from spectrace.passes import UNTIL_CLEAN_MAX_SPP
@@ -230,14 +253,15 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client, set
         goal = f"until {' or '.join(stops)} (at most {spp} spp)"
     print(f"rendering {scene_path.name}: {goal}, {args.variant}, seed {args.seed}{where}",
           file=sys.stderr, flush=True)
-    result = _render_with_progress(scene, spp, args, client, scene_path, params)
+    result = _render_with_progress(scene, spp, args, client, scene_path, params, integrator)
     if result.spp == 0:
         print("interrupted before the first pass finished: nothing written", file=sys.stderr)
         return EXIT_INTERRUPTED
     if result.nonfinite:
         print(f"warning: {result.nonfinite} pixel values were NaN or infinite and were set to 0",
               file=sys.stderr)
-    notes = _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene)
+    notes = _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene,
+                           integrator)
     rate = result.samples_per_second
     passes = f"{result.passes} pass{'' if result.passes == 1 else 'es'}"
     print(f"{scene_path.name}: {result.spp} spp in {passes}, {result.seconds:.2f} s, "
@@ -255,16 +279,11 @@ def _render_one(scene_path, scene, wavelengths, paths, params, args, client, set
     return 0
 
 
-def _render_with_progress(scene, spp, args, client=None, scene_path=None, params=None):
+def _render_with_progress(scene, spp, args, client=None, scene_path=None, params=None,
+                          integrator=None):
     from spectrace.passes import render_passes
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
-        if args.noise is not None or args.time is not None:
-            from spectrace.passes import render_passes
-
-            return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
-                                 on_pass=on_pass, noise=args.noise, time_limit=args.time,
-                                 on_noise=lambda e: on_pass.describe(f"error {e:.4f}"))
         if client is not None:
             from spectrace.cluster import SceneSpec
             from spectrace.passes import render_passes_distributed, scene_spp_per_pass
@@ -274,14 +293,23 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
             per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
             return render_passes_distributed(client, spec, spp, seed=args.seed,
                                              spp_per_pass=per_pass, on_pass=on_pass)
+        groups = _light_groups(args)
+        if groups is None and type(scene.integrator()).__name__ == "LightGroups":
+            groups = True  # the scene's own lightgroups integrator: write its layers
+        until_clean = {}
+        if args.noise is not None or args.time is not None:
+            until_clean = {"noise": args.noise, "time_limit": args.time,
+                           "on_noise": lambda e: on_pass.describe(f"error {e:.4f}")}
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
-                             on_pass=on_pass)
+                             on_pass=on_pass, light_groups=groups, integrator=integrator,
+                             **until_clean)
 
 
-def _write_outputs(result, paths, wavelengths, args, scene_path, settings,
-                   scene=None) -> tuple[str, ...]:
-    """Write the EXR (and the spectral EXR, the denoised EXR), then the PNG through the
-    display pipeline; returns the pipeline's notes (the exposure used)."""
+def _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene=None,
+                   integrator=None) -> tuple[str, ...]:
+    """Write the EXR (and the spectral EXR, the denoised EXR, or the light-group layers),
+    then the PNG through the display pipeline; returns the pipeline's notes (the exposure
+    used)."""
     from spectrace.images import write_exr, write_png
 
     header = {
@@ -294,15 +322,18 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings,
     if getattr(result, "noise", None) is not None and result.noise < float("inf"):
         header["noise"] = float(result.noise)  # the estimated relative error
     rgb = result.pixels  # a Dr.Jit tensor from the local loop: written by mi.Bitmap
-    if wavelengths is not None:
-        from spectrace.spectral import write_spectral_exr
-        from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands
+    if result.light_groups is not None:
+        rgb = _write_layers(result, paths, wavelengths, header, scene, integrator)
+    else:
+        if wavelengths is not None:
+            from spectrace.spectral import write_spectral_exr
+            from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands
 
-        bands = film_to_bands(result.image, wavelengths)  # radiance per nm, band-averaged
-        rgb = bands_to_linear_srgb(bands, wavelengths)
-        write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
-                           attributes=header)
-    write_exr(paths["exr"], rgb, header)
+            bands = film_to_bands(result.image, wavelengths)  # radiance per nm, band-averaged
+            rgb = bands_to_linear_srgb(bands, wavelengths)
+            write_spectral_exr(paths["spectral"], bands, wavelengths, preview=rgb,
+                               attributes=header)
+        write_exr(paths["exr"], rgb, header)
     if "denoised" in paths:  # a picture: the noisy EXR above is the measurement
         import numpy as np
 
@@ -320,3 +351,33 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings,
 
     return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings,
                              paths.get("display")).notes
+
+
+def _write_layers(result, paths, wavelengths, header, scene, integrator):
+    """The EXR with light-group layers (and with --film spectral the spectral one, whose
+    bands also make the RGB beauty and layers); returns the beauty for the PNG."""
+    from spectrace import lightgroups
+
+    names = result.light_groups
+    if wavelengths is None:
+        rgb, layers = lightgroups.split(result.image, names)
+    else:
+        from spectrace.spectral_film import bands_to_linear_srgb, film_to_bands
+
+        _, raw = lightgroups.split(result.image, names, per_layer=len(wavelengths))
+        bands = {g: film_to_bands(v, wavelengths) for g, v in raw.items()}
+        total = sum(bands.values())
+        layers = {g: bands_to_linear_srgb(v, wavelengths) for g, v in bands.items()}
+        rgb = bands_to_linear_srgb(total, wavelengths)
+        spectra = lightgroups.group_spectra(scene, integrator.groups, wavelengths)
+        lightgroups.write_spectral_layers_exr(paths["spectral"], total, bands, wavelengths,
+                                              rgb, spectra, header)
+    lightgroups.write_layers_exr(paths["exr"], rgb, layers, header)
+    return rgb
+
+
+def _light_groups(args):
+    """``light_groups`` of :func:`spectrace.render` from --light-groups / --light-group."""
+    if args.light_groups:
+        return True
+    return args.light_group

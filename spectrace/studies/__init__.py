@@ -14,6 +14,9 @@ tested (``tests/studies/``) and shared:
   utilisation factor, the room under a warm LED spectrally and in RGB (``photometry.ipynb``).
 * :mod:`spectrace.studies.pictures`: the display chain on one spectral render: gamut,
   view transforms, white balance (``pictures.ipynb``).
+* :mod:`spectrace.studies.light_compositing`: one layer per luminaire from one render,
+  superposition, light scenes and new lamp spectra by relighting
+  (``light_compositing.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what

@@ -1,0 +1,212 @@
+"""Benchmark: light groups: a render with 8 layers against one without, spectrace's
+``lightgroups`` path tracer against Mitsuba's C++ ``path``, and relighting time.
+
+Scene: three spheres (diffuse, rough plastic, glass) on a floor lit by 8 emitters (4 of
+Mitsuba's ``point``, 2 of spectrace's ``pointlight``, a rectangular area light and a
+uniform sky), RES x RES, max_depth 6. Renders:
+
+* ``path``: Mitsuba's C++ path tracer (no layers);
+* ``lightgroups, 1 group``: spectrace's path tracer, every emitter in one group (the cost
+  of the Python/Dr.Jit integrator itself; aim <= 1.5x ``path``);
+* ``lightgroups, 8 groups``: one layer per emitter (aim <= 1.3x one group).
+
+For each variant the first render (tracing and compilation, or a kernel-cache hit) is
+timed apart, then the best of REPEATS warm renders interleaved across the three, in
+wall-clock time and in process CPU time (steadier on a shared machine).
+Both film filters (``gaussian``, hdrfilm's default, and ``box``) are measured: the film
+splats every AOV channel with the filter, so the layers' cost there is Mitsuba's film.
+Relighting: 8 RGB layers of 1024 x 1024 (random data, which ZIP cannot compress: the worst
+case for the EXR steps): reading the layered EXR, ``lightgroups.relight`` (aim < 0.5 s),
+writing the EXR (beauty and scaled layers) and the PNG (what ``spectrace relight`` does),
+each the best of REPEATS. Then 8 spectral layers of 16 bands (about 0.5 GB of float32):
+reading the spectral EXR, and ``relight_spectral`` dimming and with a new lamp spectrum
+(aim: within 1.5x of the read).
+
+Run: .venv/bin/python benchmarks/bench_light_groups.py [--spp N] [--res N] [--repeats N]
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _timing import VARIANTS, interleaved, print_table, render_parser, timed_render
+
+import spectrace
+
+RELIGHT_RES = 1024
+GROUPS = 8
+SPECTRAL_BANDS = 16
+#: The film's reconstruction filters: hdrfilm's default ``gaussian`` splats every channel
+#: (the 24 of 8 layers too) into 4 x 4 pixels, ``box`` into one.
+FILTERS = ("gaussian", "box")
+
+
+def scene_dict(res: int, spp: int, rfilter: str = "gaussian"):
+    import mitsuba as mi
+
+    T = mi.ScalarTransform4f
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 6},
+        "sensor": {"type": "perspective", "fov": 40,
+                   "to_world": T().look_at(origin=[0, 2, 7], target=[0, 0, 0], up=[0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": res, "height": res,
+                            "rfilter": {"type": rfilter}},
+                   "sampler": {"type": "independent", "sample_count": spp}},
+        "floor": {"type": "rectangle", "bsdf": {"type": "diffuse"},
+                  "to_world": T().translate([0, -1, 0]).rotate([1, 0, 0], -90).scale(8)},
+        "ball0": {"type": "sphere", "center": [-2.2, 0, 0], "bsdf": {"type": "diffuse"}},
+        "ball1": {"type": "sphere", "center": [0, 0, 0], "bsdf": {"type": "roughplastic"}},
+        "ball2": {"type": "sphere", "center": [2.2, 0, 0], "bsdf": {"type": "dielectric"}},
+        "panel_shape": {"type": "rectangle",
+                        "to_world": T().look_at([0, 4, 0], [0, 0, 0], [0, 0, 1]),
+                        "emitter": {"type": "area", "id": "panel", "radiance": 3.0}},
+        "sky": {"type": "constant", "radiance": 0.2},
+    }
+    for i, (x, z) in enumerate([(-3, 3), (3, 3), (-3, -3), (3, -3)]):
+        scene[f"point{i}"] = {"type": "point", "position": [x, 4, z], "intensity": 10.0}
+    for i, x in enumerate((-1.0, 1.0)):
+        scene[f"bulb{i}"] = {"type": "pointlight", "position": [x, 3, 2], "intensity": 5.0}
+    return scene
+
+
+def timed_cpu_render(scene, **render_args) -> tuple[float, float]:
+    """(wall-clock, process CPU) seconds of one render, evaluated and synchronised. The
+    CPU time (all of Dr.Jit's threads) is the steadier measure on a shared machine."""
+    import drjit as dr
+    import mitsuba as mi
+
+    wall, cpu = time.perf_counter(), time.process_time()
+    dr.eval(mi.render(scene, **render_args))
+    dr.sync_thread()
+    return time.perf_counter() - wall, time.process_time() - cpu
+
+
+def render_rows(args):
+    from spectrace import lightgroups
+
+    rows = []
+    for variant, rfilter in [(v, f) for v in VARIANTS for f in FILTERS]:
+        spectrace.set_variant(variant)
+        import mitsuba as mi
+
+        scene = mi.load_dict(scene_dict(args.res, args.spp, rfilter))
+        names = lightgroups.emitter_names(scene)
+        assert len(names) == GROUPS, names
+        integrators = {
+            "path": scene.integrator(),
+            "lightgroups, 1 group": lightgroups.integrator_for(scene, {"all": names}),
+            "lightgroups, 8 groups": lightgroups.integrator_for(scene, True),
+        }
+        first = {k: timed_render(scene, spp=args.spp, seed=0, integrator=i)
+                 for k, i in integrators.items()}
+
+        def measure(integrator, repeat, scene=scene):
+            return timed_cpu_render(scene, spp=args.spp, seed=repeat, integrator=integrator)
+
+        warm = interleaved(integrators, measure, args.repeats)
+        wall = {k: min(t[0] for t in v) for k, v in warm.items()}
+        cpu = {k: min(t[1] for t in v) for k, v in warm.items()}
+        for k in integrators:
+            rows.append((variant, rfilter, k, first[k], wall[k], cpu[k],
+                         wall[k] / wall["path"], cpu[k] / cpu["path"],
+                         wall[k] / wall["lightgroups, 1 group"],
+                         cpu[k] / cpu["lightgroups, 1 group"]))
+    return rows
+
+
+def relight_rows(repeats: int):
+    import numpy as np
+
+    from spectrace import lightgroups
+    from spectrace.images import write_png
+
+    rng = np.random.default_rng(1)
+    layers = {f"light{i}": rng.random((RELIGHT_RES, RELIGHT_RES, 3), dtype=np.float32)
+              for i in range(GROUPS)}
+    scales = {g: 0.5 for g in list(layers)[:4]}
+    steps = {"read EXR": [], "relight()": [], "write EXR": [], "write PNG": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "layers.exr"
+        lightgroups.write_layers_exr(src, sum(layers.values()), layers)
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            _, read, _ = lightgroups.read_layers_exr(src)
+            t1 = time.perf_counter()
+            image, scaled = lightgroups.relight(read, scales)
+            t2 = time.perf_counter()
+            lightgroups.write_layers_exr(Path(tmp) / "out.exr", image, scaled)
+            t3 = time.perf_counter()
+            write_png(Path(tmp) / "out.png", image)
+            t4 = time.perf_counter()
+            for key, t in zip(steps, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
+                steps[key].append(t)
+    return [(k, min(v)) for k, v in steps.items()]
+
+
+def spectral_relight_rows(repeats: int):
+    """8 spectral layers of SPECTRAL_BANDS bands (about 0.5 GB of float32): reading them
+    from the EXR, dimming them, and giving one group a new lamp spectrum."""
+    import numpy as np
+
+    from spectrace import lightgroups
+    from spectrace.spectral_film import band_centres
+
+    rng = np.random.default_rng(2)
+    wl = band_centres(SPECTRAL_BANDS)
+    shape = (RELIGHT_RES, RELIGHT_RES, SPECTRAL_BANDS)
+    layers = {f"light{i}": rng.random(shape, dtype=np.float32) for i in range(GROUPS)}
+    spectra = {g: np.ones(SPECTRAL_BANDS) for g in layers}
+    new = {"light0": (wl, np.linspace(0.5, 1.5, wl.size))}
+    steps = {"read spectral EXR": [], "relight_spectral(), dimming": [],
+             "relight_spectral(), a new spectrum": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "layers.spectral.exr"
+        total = sum(layers.values())
+        lightgroups.write_spectral_layers_exr(src, total, layers, wl,
+                                              np.zeros(shape[:2] + (3,)), spectra)
+        del layers, total
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            _, read, wl, old, _ = lightgroups.read_spectral_layers_exr(src)
+            t1 = time.perf_counter()
+            lightgroups.relight_spectral(read, wl, {"light1": 0.5}, {}, old)
+            t2 = time.perf_counter()
+            lightgroups.relight_spectral(read, wl, {"light1": 0.5}, new, old)
+            t3 = time.perf_counter()
+            for key, t in zip(steps, (t1 - t0, t2 - t1, t3 - t2), strict=True):
+                steps[key].append(t)
+            del read
+    best = {k: min(v) for k, v in steps.items()}
+    read = best["read spectral EXR"]
+    return [(k, v, v / read) for k, v in best.items()]
+
+
+def main(argv=None) -> int:
+    args = render_parser(__doc__, repeats=3).parse_args(argv)
+    rows = render_rows(args)
+    print(f"render {args.res}x{args.res}, {args.spp} spp, max_depth 6, {GROUPS} emitters, "
+          f"best of {args.repeats} warm renders")
+    print_table([("variant", ">16", ""), ("rfilter", ">8", ""), ("integrator", ">21", ""),
+                 ("first s", ">7", ".3f"), ("wall s", ">6", ".3f"), ("CPU s", ">6", ".3f"),
+                 ("wall/path", ">9", ".2f"), ("CPU/path", ">8", ".2f"),
+                 ("wall/1 group", ">12", ".2f"), ("CPU/1 group", ">11", ".2f")], rows,
+                sep="  ")
+    print()
+    print(f"relight {RELIGHT_RES}x{RELIGHT_RES}, {GROUPS} RGB layers, best of "
+          f"{args.repeats}")
+    print_table([("step", ">36", ""), ("seconds", ">8", ".3f")],
+                relight_rows(args.repeats), sep="  ")
+    print()
+    print(f"relight {RELIGHT_RES}x{RELIGHT_RES}, {GROUPS} spectral layers of "
+          f"{SPECTRAL_BANDS} bands, best of {args.repeats}")
+    print_table([("step", ">36", ""), ("seconds", ">8", ".3f"), ("/ read", ">7", ".2f")],
+                spectral_relight_rows(args.repeats), sep="  ")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

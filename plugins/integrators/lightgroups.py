@@ -1,0 +1,337 @@
+"""``lightgroups``: a path tracer that splits the image into one layer per group of lights.
+
+The same estimator as Mitsuba's ``path`` (unidirectional path tracing with next-event
+estimation, multiple importance sampling by the power heuristic, Russian roulette), written
+in Dr.Jit, that also adds every contribution to the layer of the light it came from:
+
+* next-event estimation: the emitter the scene sampled (``ds.emitter``);
+* a BSDF-sampled ray that hits an area light, or escapes to the environment: the emitter
+  hit (``si.emitter(scene)``, the environment map for a ray that hits nothing);
+* emission seen directly by the camera: that emitter.
+
+So all layers come from one set of paths (one render, not one per light), and they sum to
+the beauty image (up to float rounding: the beauty is accumulated separately). Each layer
+is an AOV of three channels ``<group>.R``, ``<group>.G``, ``<group>.B`` in linear sRGB;
+the beauty is the film's own channels as with ``path``.
+
+Parameters
+----------
+
+====================  ========  =======  ====  ===================================================
+parameter             type      default  unit  description
+====================  ========  =======  ====  ===================================================
+``groups``            string    --       --    required: ``name=id1,id2;name2=id3``: the groups,
+                                               each a name (letters, digits, ``_``, ``-``) and the
+                                               emitters in it; every emitter of the scene in exactly
+                                               one group. An emitter is named by its ``id``, an
+                                               emitter without one by ``emitter<k>`` (k: its index
+                                               in ``scene.emitters()``), an environment emitter
+                                               without one by ``environment``
+``max_depth``         integer   -1       --    longest path (vertices): 1 shows the emitters
+                                               seen directly, 2 direct light, -1 no limit
+``rr_depth``          integer   5        --    depth from which Russian roulette may stop a
+                                               path, >= 1
+``hide_emitters``     boolean   false    --    emitters seen directly (area lights, environment)
+                                               are not shown
+``band_wavelengths``  string    --       nm    spectral variants: spectral layers, the
+                                               channels ``<group>.band000``, ... instead of
+                                               R, G, B: hat bands at these evenly spaced
+                                               centres, as ``spectrace render --film
+                                               spectral`` makes (see below)
+====================  ========  =======  ====  ===================================================
+
+Formula
+-------
+
+The estimate of the pixel's radiance along a path x0 (camera), x1, ..., with throughput
+beta_k = prod f cos / pdf (divided by the Russian roulette probabilities) is
+
+    L = sum_k beta_k [ w_bsdf L_e(x_k) + w_em f(x_k) L_e(y) cos / p_em(y) ]
+
+with power-heuristic weights w (1 for delta lights and delta BSDF lobes), and the layer of
+group g is the same sum restricted to the terms whose emitter belongs to g:
+L = sum_g L_g exactly, term by term.
+
+Colour of the layers: in RGB variants the layer is the path's RGB radiance. In spectral
+variants each sample carries its own wavelengths; since Mitsuba's film stores AOVs as
+given, the layer is converted to linear sRGB in the integrator, as the film converts the
+beauty: the radiance times the sensor's wavelength weight (1 / ``mi.pdf_rgb_spectrum``,
+the weight of Mitsuba's sensors without an ``srf``; the render refuses films with a
+sensor response), then ``mi.spectrum_to_srgb`` (CIE 1931 XYZ -> linear sRGB) on the
+sample's wavelengths. Mono variants: R = G = B = the
+luminance. Polarized variants are refused (the throughput would be a Mueller matrix).
+
+Spectral layers (``band_wavelengths`` c_0 < ... < c_{N-1}, spacing d): channel j of a
+group's layer is the estimate of integral L(l) hat_j(l) dl, hat_j(l) = max(0, 1 - |l - c_j|
+/ d) on [c_0, c_{N-1}] (half hats at the ends; the bands of
+:mod:`spectrace.spectral_film`), from the sample's wavelengths and their weight:
+mean over the wavelengths of L w hat_j. Mitsuba 3.9's ``specfilm`` writes its bands over
+the integrator's AOVs, so these layers go on the RGB film as AOVs (its wavelength
+sampling, 360-830 nm); ``spectrace.spectral_film.film_to_bands`` turns them into band
+averages.
+
+Details:
+
+* The emitter -> group lookup: an ``EmitterPtr`` is, in the JIT variants, the emitter's
+  index in Mitsuba's instance registry; ``dr.reinterpret_array(mi.UInt32, ptr)`` gives it
+  (0 for no emitter), and a gather from a table indexed by it gives the group. It works
+  alike for Mitsuba's C++ emitters and for emitters written in Python (spectrace's
+  ``pointlight``, ``spotlight``, ``ieslight``), which every emitter sample of theirs names in
+  ``ds.emitter``. The table is built from ``scene.emitters()`` when the kernel is traced.
+* The samples are drawn in the order of Mitsuba's ``path`` (light sample, BSDF sample,
+  roulette), with its Russian roulette (from depth ``rr_depth``, survival probability
+  min(max throughput * eta^2, 0.95)) and its alpha (a path is valid once it hits a surface
+  that is not a null BSDF, or sees the environment).
+* A scene whose integrator is ``lightgroups`` renders its layers with ``spectrace render``
+  as with ``--light-groups``.
+
+Sources
+-------
+
+Veach (1997), *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis,
+Stanford, ch. 9 (MIS, power heuristic); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3:
+its ``path`` (C++) and ``prb`` (Python) integrators, whose sampling decisions this one
+repeats in the same order, so its beauty equals ``path``'s in expectation (and, with the
+same seed, up to float rounding in the scenes tested).
+
+Example
+-------
+
+Two groups, the key and fill lights dimmable separately, the sky its own layer::
+
+    <integrator type="lightgroups">
+        <string name="groups" value="key=lamp1,lamp2;fill=lamp3;sky=environment"/>
+        <integer name="max_depth" value="6"/>
+    </integrator>
+
+``spectrace render SCENE.xml --light-groups`` builds it from the scene's ``path`` or
+``direct`` integrator (see :mod:`spectrace.lightgroups`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import drjit as dr
+import mitsuba as mi
+from spectrace.plugins import params
+
+from spectrace import lightgroups
+
+PLUGIN = "lightgroups"
+#: Russian roulette keeps a path with at most this probability (Mitsuba's ``path``).
+RR_MAX_PROBABILITY = 0.95
+#: The channel of band j of a spectral layer: ``<group>.band000``.
+BAND_CHANNEL = "band{:03d}"
+#: ``max_depth`` -1: no limit (Mitsuba's convention: 2^32 - 1 vertices).
+UNLIMITED_DEPTH = 0xFFFFFFFF
+
+
+def _mis_weight(pdf_a, pdf_b):
+    """Power heuristic pdf_a^2 / (pdf_a^2 + pdf_b^2), 0 where it is not finite."""
+    a2 = dr.square(pdf_a)
+    w = a2 / (a2 + dr.square(pdf_b))
+    return dr.select(dr.isfinite(w), w, 0.0)
+
+
+class LightGroups(mi.SamplingIntegrator):
+    """Path tracer with one AOV layer per light group; see the module docstring."""
+
+    def __init__(self, props):
+        super().__init__(props)  # reads hide_emitters
+        if mi.is_polarized:
+            raise ValueError(f"{PLUGIN}: polarized variants are not supported (variant "
+                             f"{mi.variant()}); use the unpolarized one")
+        params.read_bool(props, PLUGIN, "hide_emitters", False)  # type check only
+        max_depth = params.read_int(props, PLUGIN, "max_depth", -1, minimum=-1)
+        self.max_depth = UNLIMITED_DEPTH if max_depth == -1 else max_depth
+        self.rr_depth = params.read_int(props, PLUGIN, "rr_depth", 5, minimum=1)
+        text = params.read_string(props, PLUGIN, "groups", params.REQUIRED)
+        try:
+            self.groups = lightgroups.parse_groups(text)
+        except ValueError as e:
+            raise ValueError(f"{PLUGIN}: parameter 'groups': {e}") from None
+        self.names = list(self.groups)
+        self.bands = None  # band centres (nm) of spectral layers
+        text = params.read_string(props, PLUGIN, "band_wavelengths", None)
+        if text is not None:
+            self.bands = self._band_centres(text)
+
+    @staticmethod
+    def _band_centres(text: str) -> list[float]:
+        where = f"{PLUGIN}: parameter 'band_wavelengths'"
+        if not mi.is_spectral:
+            raise ValueError(f"{where} needs a spectral variant (got {mi.variant()})")
+        try:
+            c = [float(v) for v in text.replace(",", " ").split()]
+        except ValueError:
+            raise ValueError(f"{where} must be numbers in nm (got {text!r})") from None
+        steps = [b - a for a, b in zip(c, c[1:], strict=False)]
+        if len(c) < 2 or not all(math.isfinite(v) and v > 0 for v in c) or not all(
+                abs(d - steps[0]) <= 1e-6 * steps[0] and d > 0 for d in steps):
+            raise ValueError(f"{where} must be 2 or more evenly spaced increasing "
+                             f"wavelengths in nm (got {text!r})")
+        return c
+
+    def aov_names(self):
+        if self.bands is not None:
+            return [f"{name}.{BAND_CHANNEL.format(j)}" for name in self.names
+                    for j in range(len(self.bands))]
+        return [f"{name}.{c}" for name in self.names for c in "RGB"]
+
+    def to_string(self):
+        return (f"LightGroups[max_depth={self.max_depth}, rr_depth={self.rr_depth}, "
+                f"groups={self.names}]")
+
+    # -- the emitter -> group lookup -------------------------------------------------
+
+    def _group_table(self, scene):
+        """UInt32 table: an emitter's registry index (its ``EmitterPtr`` reinterpreted)
+        -> its group's index. Unlisted emitters are an error."""
+        index = lightgroups.emitter_group_indices(scene, self.groups)  # in emitters() order
+        ids = [int(dr.reinterpret_array(mi.UInt32, mi.EmitterPtr(e))[0])
+               for e in scene.emitters()]
+        table = [len(self.names)] * (max(ids, default=0) + 1)
+        for i, g in zip(ids, index, strict=True):
+            table[i] = g
+        return mi.UInt32(table)
+
+    # -- Mitsuba interface -----------------------------------------------------------
+
+    def sample(self, scene, sampler, ray, medium=None, active=True):
+        n_groups = len(self.names)
+        zero = [mi.Spectrum(0.0) for _ in range(n_groups)]
+        active = mi.Bool(active)
+        if self.max_depth == 0:
+            return mi.Spectrum(0.0), mi.Bool(False), self._layers(zero, ray, active)
+        table = self._group_table(scene)
+
+        def group_of(emitter, mask):
+            return dr.gather(mi.UInt32, table, dr.reinterpret_array(mi.UInt32, emitter), mask)
+
+        def add(Lg, gid, value):
+            return [Lg[g] + dr.select(gid == g, value, 0.0) for g in range(n_groups)]
+
+        bsdf_ctx = mi.BSDFContext()
+        ray = mi.Ray3f(ray)
+        max_depth = mi.UInt32(self.max_depth)
+        rr_depth = mi.UInt32(self.rr_depth)
+        pi = scene.ray_intersect_preliminary(ray, coherent=True, active=active)
+        if self.hide_emitters:  # skip the area emitters a camera ray meets first
+            skip = pi.is_valid() & (pi.shape.emitter() != None) & active  # noqa: E711
+            si_skip = pi.compute_surface_interaction(ray, mi.RayFlags.Minimal, skip)
+            pi_after = self.skip_area_emitters(scene, si_skip.spawn_ray(ray.d), True, skip)
+            pi[skip] = pi_after
+        valid_ray = mi.Bool(not self.hide_emitters and scene.environment() is not None)
+
+        state = (sampler, ray, pi, mi.UInt32(0), mi.Spectrum(0.0), zero, mi.Spectrum(1.0),
+                 mi.Float(1.0), active, valid_ray & active,
+                 dr.zeros(mi.SurfaceInteraction3f), mi.Float(1.0), mi.Bool(True))
+
+        def cond(sampler, ray, pi, depth, L, Lg, beta, eta, active, *rest):
+            return active
+
+        def body(sampler, ray, pi, depth, L, Lg, beta, eta, active, valid_ray,
+                 si_prev, bsdf_pdf_prev, bsdf_delta_prev):
+            active_next = mi.Bool(active)
+            si = pi.compute_surface_interaction(ray, ray_flags=mi.RayFlags.All, active=active)
+            bsdf = si.bsdf(ray)
+
+            # emission of the surface or environment reached (MIS against NEE)
+            if self.hide_emitters:
+                active_next &= ~((depth == 0) & ~si.is_valid())
+            ds = mi.DirectionSample3f(scene, si=si, ref=si_prev)
+            em_pdf = scene.pdf_emitter_direction(si_prev, ds, ~bsdf_delta_prev & active_next)
+            mis = _mis_weight(bsdf_pdf_prev, dr.select(bsdf_delta_prev, 0.0, em_pdf))
+            Le = beta * mis * ds.emitter.eval(si, active_next & (bsdf_pdf_prev > 0.0))
+            Le = dr.select(active_next, Le, 0.0)
+            L = L + Le
+            Lg = add(Lg, group_of(ds.emitter, active_next), Le)
+
+            # next-event estimation
+            active_next &= (depth + 1 < max_depth) & si.is_valid()
+            active_em = active_next & mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
+            ds, em_weight = scene.sample_emitter_direction(si, sampler.next_2d(), True,
+                                                           active_em)
+            active_em &= ds.pdf != 0.0
+            wo = si.to_local(ds.d)
+            bsdf_value, bsdf_pdf = bsdf.eval_pdf(bsdf_ctx, si, wo, active_em)
+            mis_em = dr.select(ds.delta, 1.0, _mis_weight(ds.pdf, bsdf_pdf))
+            Ld = dr.select(active_em, beta * mis_em * bsdf_value * em_weight, 0.0)
+            L = L + Ld
+            Lg = add(Lg, group_of(ds.emitter, active_em), Ld)
+
+            # BSDF sampling
+            bs, bsdf_weight = bsdf.sample(bsdf_ctx, si, sampler.next_1d(), sampler.next_2d(),
+                                          active_next)
+            ray = si.spawn_ray(si.to_world(bs.wo))
+            eta = eta * dr.select(active_next, bs.eta, 1.0)
+            beta = beta * bsdf_weight
+            valid_ray |= active & si.is_valid() & ~mi.has_flag(bs.sampled_type,
+                                                               mi.BSDFFlags.Null)
+            si_prev = dr.detach(si, True)
+            bsdf_pdf_prev = bs.pdf
+            bsdf_delta_prev = mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta)
+
+            # Russian roulette (as Mitsuba's path: from depth rr_depth, counted after this
+            # vertex), and no further vertex once the throughput is 0
+            depth = dr.select(si.is_valid(), depth + 1, depth)
+            beta_max = dr.max(beta)
+            rr_prob = dr.minimum(beta_max * dr.square(eta), RR_MAX_PROBABILITY)
+            rr_active = depth >= rr_depth
+            beta = dr.select(rr_active, beta * dr.rcp(rr_prob), beta)
+            rr_continue = sampler.next_1d() < rr_prob
+            active = active_next & (~rr_active | rr_continue) & (beta_max != 0.0)
+            pi = scene.ray_intersect_preliminary(ray, coherent=False, active=active)
+            return (sampler, ray, pi, depth, L, Lg, beta, eta, active, valid_ray,
+                    si_prev, bsdf_pdf_prev, bsdf_delta_prev)
+
+        state = dr.while_loop(state, cond, body, max_iterations=self.max_depth,
+                              label=PLUGIN)
+        L, Lg, valid_ray = state[4], state[5], state[9]
+        return (dr.select(valid_ray, L, 0.0), valid_ray,
+                self._layers([dr.select(valid_ray, x, 0.0) for x in Lg], ray, active, scene))
+
+    def _layers(self, Lg, ray, active, scene):
+        """The AOV floats: linear sRGB or band values of each group's radiance (see the
+        docstring)."""
+        out = []
+        if mi.is_spectral:  # the sensor's wavelength weight, which the film applies to L
+            srf = scene.sensors()[0].film().sensor_response_function()
+            if srf is None:
+                pdf = mi.pdf_rgb_spectrum(ray.wavelengths)
+            else:
+                si = dr.zeros(mi.SurfaceInteraction3f, dr.width(ray.wavelengths))
+                si.wavelengths = ray.wavelengths
+                pdf = srf.pdf_spectrum(si, active)
+            weight = dr.select(pdf > 0.0, dr.rcp(pdf), 0.0)
+        if self.bands is not None:
+            return [v for L in Lg for v in self._band_values(L * weight, ray.wavelengths)]
+        for L in Lg:
+            if mi.is_spectral:
+                rgb = mi.spectrum_to_srgb(L * weight, ray.wavelengths, active)
+            elif mi.is_monochromatic:
+                rgb = mi.Color3f(L[0], L[0], L[0])
+            else:
+                rgb = L
+            out += [rgb[0], rgb[1], rgb[2]]
+        return out
+
+    def _band_values(self, L, wavelengths):
+        """specfilm's channels of the weighted radiance L: the mean over the sample's
+        wavelengths of L hat_j, hat_j the band's response (peak 1, half hats at the ends)."""
+        c0, step = self.bands[0], self.bands[1] - self.bands[0]
+        lo, hi = self.bands[0], self.bands[-1]
+        out = []
+        for j in range(len(self.bands)):
+            total = mi.Float(0.0)
+            for i in range(len(wavelengths)):
+                lam = wavelengths[i]
+                hat = dr.maximum(1.0 - dr.abs(lam - (c0 + j * step)) / step, 0.0)
+                hat = dr.select((lam >= lo) & (lam <= hi), hat, 0.0)
+                total += L[i] * hat
+            out.append(total / len(wavelengths))
+        return out
+
+
+mi.register_integrator(PLUGIN, lambda props: LightGroups(props))
