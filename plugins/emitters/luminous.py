@@ -106,15 +106,59 @@ LUMINANCE_WEIGHTS = srgb.LUMINANCE_WEIGHTS
 PHOTOPIC = "CIE 1924 Photopic Standard Observer"
 
 
+def _photopic_cache():
+    """Where V on the 1 nm grid is kept between runs: the user's cache folder
+    (``$XDG_CACHE_HOME`` or ``~/.cache``)/spectrace, the file named after the installed
+    colour-science (its path and modification time), so that another colour-science
+    recomputes it."""
+    import hashlib
+    import importlib.util
+    import os
+    from pathlib import Path
+
+    spec = importlib.util.find_spec("colour")
+    if spec is None or spec.origin is None:
+        return None
+    key = f"{spec.origin}:{os.stat(spec.origin).st_mtime_ns}:{PHOTOPIC}:{GRID_NM}"
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    digest = hashlib.sha1(key.encode()).hexdigest()[:16]
+    return Path(root) / "spectrace" / f"photopic-{digest}.npy"
+
+
 @lru_cache(maxsize=1)
 def photopic_efficiency() -> tuple[np.ndarray, np.ndarray]:
-    """(wavelengths in nm, V) of the CIE 1924 photopic observer on the 1 nm grid, peak 1."""
-    import colour
+    """(wavelengths in nm, V) of the CIE 1924 photopic observer on the 1 nm grid, peak 1,
+    from colour-science's dataset. colour-science takes a second or two to import, longer
+    than a small render, so the values are kept in the user's cache folder after the first
+    run (:func:`_photopic_cache`; written atomically, skipped when it cannot be written)."""
     import numpy as np
 
     wavelengths = np.arange(GRID_NM[0], GRID_NM[1] + 1, dtype=np.float64)
+    cache = _photopic_cache()
+    if cache is not None:
+        try:
+            V = np.load(cache)
+            if V.shape == wavelengths.shape and np.all(np.isfinite(V)):
+                return wavelengths, V
+        except (OSError, ValueError):
+            pass
+    import colour
+
     sd = colour.colorimetry.SDS_LEFS_PHOTOPIC[PHOTOPIC]
-    return wavelengths, np.asarray(sd[wavelengths], dtype=np.float64)
+    V = np.asarray(sd[wavelengths], dtype=np.float64)
+    if cache is not None:
+        import os
+        import tempfile
+
+        try:
+            cache.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=cache.parent, suffix=".npy")
+            with os.fdopen(fd, "wb") as f:
+                np.save(f, V)
+            os.replace(tmp, cache)
+        except OSError:
+            pass
+    return wavelengths, V
 
 
 def photopic_spectrum():
