@@ -20,6 +20,8 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "emitters.falloff",
     "emitters.luminous",
     "emitters.delta",
+    "emitters.opening",
+    "emitters.sized",
     "emitters.pointlight",
     "emitters.spotlight",
     "emitters.ieslight",
@@ -30,7 +32,8 @@ PLUGIN_MODULES: tuple[str, ...] = (
 #: The modules that register no plugin of their own: the shared helpers, executed before any
 #: plugin module (the classes they define are rebuilt for the variant like the plugins).
 HELPER_MODULES: frozenset[str] = frozenset(
-    {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta", "integrators.fog"}
+    {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta",
+     "emitters.opening", "emitters.sized", "integrators.fog"}
 )
 #: XML type name -> the module that registers it (a plugin module is named after its type).
 PLUGINS: dict[str, str] = {

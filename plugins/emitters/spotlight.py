@@ -116,13 +116,16 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
-from spectrace.plugins.emitters import delta, falloff, luminous
+from spectrace.plugins.emitters import delta, falloff, luminous, opening, sized
 
 PLUGIN = "spotlight"
 #: Smallest cos(penumbra) - cos(umbra) and umbra - penumbra (rad) used as a divisor: a
 #: hard-edged cone when the two angles are equal.
 MIN_WIDTH = 1e-7
 #: Parameters of Mitsuba's built-in ``spot`` and the names spotlight gives them.
+#: Largest ``penumbra_angle`` (excluded) of a sized spot: full intensity at 90 degrees from
+#: the disk's normal would need an infinite radiance.
+MAX_SIZED_PENUMBRA = 90.0
 MITSUBA_SPOT_PARAMETERS = {"cutoff_angle": "umbra_angle", "beam_width": "penumbra_angle"}
 ANGLE_MEANINGS = {"umbra_angle": "the outer half-angle, no light outside",
                   "penumbra_angle": "the inner half-angle, full intensity inside"}
@@ -231,7 +234,17 @@ class SpotLight(delta.DeltaLight):
         self.gobo_has_pdf = self.texture is not None and has_pdf_spectrum(self.texture)
         self.umbra_angle = mi.Float(umbra)
         self.penumbra_angle = mi.Float(penumbra)
+        self.source_radius = sized.read_source_radius(props, PLUGIN)
         flags = mi.EmitterFlags.DeltaPosition
+        if self.source_radius > 0:
+            sized.check_sized(PLUGIN, self.law, props.get("to_world", None))
+            if not penumbra < MAX_SIZED_PENUMBRA:
+                raise ValueError(
+                    f"{PLUGIN}: parameter 'penumbra_angle' must be < {MAX_SIZED_PENUMBRA:g} "
+                    f"with source_radius > 0 (got {penumbra:g}: the disk's radiance I / (pi "
+                    "r^2 cos gamma) would be unbounded at grazing angles)"
+                )
+            flags = mi.EmitterFlags.Empty  # see sized: not Surface
         if self.texture is not None:
             flags = flags | mi.EmitterFlags.SpatiallyVarying
         self.m_flags = flags
@@ -300,6 +313,9 @@ class SpotLight(delta.DeltaLight):
     # -- sampling and evaluation --------------------------------------------------------
 
     def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
+        if self.source_radius > 0:  # position on the disk from sample2, direction sample3
+            origin, normal = opening.disk_point(self.to_world, self.source_radius, sample2)
+            sample2 = sample3
         local_d = mi.warp.square_to_uniform_cone(sample2, self.cos_umbra)
         pdf = mi.warp.square_to_uniform_cone_pdf(local_d, self.cos_umbra)
         si = dr.zeros(mi.SurfaceInteraction3f)
@@ -309,27 +325,79 @@ class SpotLight(delta.DeltaLight):
             si.uv = self._direction_to_uv(local_d)
         wavelengths, weight = self.sample_wavelengths(si, wavelength_sample, active)
         cone = self.cone.profile(self, local_d.z)
-        ray = mi.Ray3f(self.position, self.to_world @ local_d, time, wavelengths)
+        # Sized: L cos(gamma) A / (pdf_A pdf_omega) = I / pdf_omega, as the point spot.
+        if self.source_radius > 0:
+            ray = sized.spawn_ray(origin, normal, self.to_world @ local_d, time, wavelengths)
+        else:
+            ray = mi.Ray3f(self.position, self.to_world @ local_d, time, wavelengths)
         return ray, self._out(weight * (cone / pdf))
 
     def sample_direction(self, it, sample, active=True):
+        if self.source_radius > 0:
+            p, n, pdf = opening.disk_sample_direction(self.to_world, self.source_radius,
+                                                      it.p, sample)
+            ds = sized.direction_sample(self, it, p, n, pdf)
+            lit = active & (pdf > 0.0)
+            # L / pdf = I / (A cos gamma) * A cos gamma / t^2 = I / t^2
+            value = self._emitted(self.to_local @ (-ds.d), it.wavelengths, it.time, lit)
+            return ds, self._out(dr.select(lit, value * dr.rcp(dr.square(ds.dist)), 0.0))
         ds, dist2 = self._direction_sample(it)
         local_d = self.to_local @ (-ds.d)
         value = self._emitted(local_d, it.wavelengths, it.time, active) * self.law(dist2)
         return ds, self._out(value)
 
     def eval_direction(self, it, ds, active=True):
+        if self.source_radius > 0:
+            return self._radiance(self.to_local @ (-ds.d), it.wavelengths, it.time, active)
         d = mi.Vector3f(it.p - ds.p)  # (Point3f - Point3f is a Point3f in Mitsuba's Python)
         local_d = self.to_local @ d
         value = self._emitted(local_d, it.wavelengths, it.time, active)
         return self._out(value * self.law(dr.squared_norm(d)))
 
+    def eval(self, si, active=True):
+        if self.source_radius > 0:
+            local_d = self.to_local @ si.to_world(si.wi)
+            return self._radiance(local_d, si.wavelengths, si.time, active)
+        return super().eval(si, active)
+
+    def _radiance(self, local_d, wavelengths, time, active):
+        """L = I(omega) / (pi r^2 cos gamma) of the sized spot in the unit local direction
+        ``local_d`` (0 behind the disk)."""
+        lit = active & (local_d.z > 0.0)
+        area = opening.disk_projected_area(self.source_radius, local_d.z)
+        value = self._emitted(local_d, wavelengths, time, lit) * dr.rcp(area)
+        return self._out(dr.select(lit, value, 0.0))
+
+    def pdf_direction(self, it, ds, active=True):
+        if self.source_radius > 0:
+            pdf = opening.disk_pdf_direction(self.source_radius, it.p, ds.p, ds.n)
+            return dr.select(active, pdf, 0.0)
+        return super().pdf_direction(it, ds, active)
+
     def sample_position(self, time, sample, active=True):
+        if self.source_radius > 0:
+            p, n = opening.disk_point(self.to_world, self.source_radius, sample)
+            return sized.position_sample(time, p, n, self._area())
         ps = self._position_sample(time)
         ps.n = self.to_world @ mi.Vector3f(0.0, 0.0, 1.0)
         ps.uv = mi.Point2f(0.5)
         ps.pdf = 1.0
         return ps, mi.Float(1.0)
+
+    def pdf_position(self, ps, active=True):
+        if self.source_radius > 0:
+            return dr.select(active, dr.rcp(self._area()), 0.0)
+        return super().pdf_position(ps, active)
+
+    def _area(self):
+        """The disk's area pi r^2."""
+        return opening.disk_projected_area(mi.Float(self.source_radius), 1.0)
+
+    def bbox(self):
+        if self.source_radius > 0:
+            p = mi.ScalarPoint3f(dr.slice(self.position, 0))
+            return mi.ScalarBoundingBox3f(p - self.source_radius, p + self.source_radius)
+        return super().bbox()
 
     def _sample_spectrum(self, si, samples, active):
         """With a gobo, wavelengths follow the texture (as the built-in ``spot``), weighted
@@ -355,7 +423,8 @@ class SpotLight(delta.DeltaLight):
             f"SpotLight[to_world={self.to_world}, "
             f"{self._emission_string()}, "
             f"umbra_angle={self.umbra_angle}, penumbra_angle={self.penumbra_angle}, "
-            f"cone_falloff={self.cone_name}, falloff={self.law!r}, texture={self.texture}]"
+            f"cone_falloff={self.cone_name}, falloff={self.law!r}, texture={self.texture}, "
+            f"source_radius={self.source_radius}]"
         )
 
 

@@ -268,8 +268,13 @@ class Local(mi.SamplingIntegrator):
         if self.shadows:
             n = dr.mulsign(si.n, dr.dot(si.n, ds.d))
             origin = si.p + self.shadow_bias * n
+            # Towards the sampled point itself from the offset origin when the light has a
+            # surface (else the ray would end inside it); along ds.d for delta lights.
+            to_light = mi.Vector3f(ds.p - origin)
+            dist = dr.select(ds.delta, ds.dist, dr.norm(to_light))
+            d = dr.select(ds.delta, ds.d, to_light * dr.rcp(dist))
             shadow_ray = mi.Ray3f(
-                origin, ds.d, ds.dist * (1.0 - mi.math.ShadowEpsilon), si.time, si.wavelengths
+                origin, d, dist * (1.0 - mi.math.ShadowEpsilon), si.time, si.wavelengths
             )
             lit &= ~scene.ray_test(shadow_ray, lit)
         return lit

@@ -1,0 +1,185 @@
+"""``opening``: the emitting geometry of the sized lights (helper page, not a plugin).
+
+A light with a size (``pointlight`` or ``spotlight`` with ``source_radius`` > 0; later the
+luminous openings of ``ieslight``) emits from a surface, a sphere or a disk, instead of a
+point. Each point of the surface emits the radiance L(omega) = I(omega) / A_proj(omega),
+where I is the light's radiant intensity and A_proj the surface's area projected on a plane
+normal to omega, so that far away the surface lights like the point light of intensity I:
+
+* sphere of radius r: A_proj = pi r^2 in every direction, so L = I / (pi r^2) is uniform
+  (a Lambertian sphere) and its flux is 4 pi I, the point light's;
+* disk of radius r facing +Z: A_proj = pi r^2 cos(gamma), gamma the angle from +Z, so
+  L = I(gamma) / (pi r^2 cos gamma).
+
+This module samples points of these surfaces for a shaded point (``sample_direction``) and
+gives the densities in solid angle that go with them (``pdf_direction``), for the
+integrators' next-event estimation and multiple importance sampling. Executed before the
+lights (see ``spectrace.plugins.PLUGIN_MODULES``).
+
+Parameters
+----------
+
+===================  ======  ===========  ====  ===============================================
+parameter            type    default      unit  description
+===================  ======  ===========  ====  ===============================================
+``source_sampling``  string  solid_angle  --    how a sphere is sampled from a shaded point:
+                                                ``solid_angle`` (uniform in the cone it
+                                                subtends) or ``area`` (uniform over its
+                                                surface, the reference for comparisons); a
+                                                disk is always sampled by area
+===================  ======  ===========  ====  ===============================================
+
+Formula
+-------
+
+::
+
+    sphere, solid_angle:  pdf(omega) = 1 / (2 pi (1 - cos theta_max)),  sin theta_max = r / d
+    sphere, area:         pdf(omega) = t^2 / (4 pi r^2 |cos theta_l|)
+    disk, area:           pdf(omega) = t^2 / (pi r^2 cos theta_l)
+
+with d the distance from the shaded point to the sphere's centre, t the distance to the
+sampled point and theta_l the angle between the surface normal there and the direction back
+to the shaded point. ``solid_angle`` draws cos theta uniformly in [cos theta_max, 1] about the
+direction to the centre and finds the point of the sphere seen in that direction from the
+angle alpha at the centre, cos alpha = sin^2 theta / sin theta_max + cos theta sqrt(1 -
+sin^2 theta / sin^2 theta_max), so no ray is intersected; 1 - cos theta_max is computed as
+sin^2 theta_max / (1 + cos theta_max), exact for far spheres too. Shaded points inside a
+sphere or behind a disk see no emission: density 0.
+
+Sources
+-------
+
+Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed., sec. 6.2.4 (sampling a
+sphere by the cone it subtends) and A.5 (area sampling, the area-to-solid-angle Jacobian
+t^2 / cos theta_l); Shirley, Chiu (1997), "A low distortion map between disk and square",
+*Journal of Graphics Tools* 2(3) (``mi.warp.square_to_uniform_disk_concentric``).
+
+Example
+-------
+
+A 10 cm sphere sampled by area, to compare its noise with the default::
+
+    <emitter type="pointlight">
+        <point name="position" x="0" y="2" z="0"/>
+        <float name="source_radius" value="0.1"/>
+        <string name="source_sampling" value="area"/>
+    </emitter>
+"""
+
+from __future__ import annotations
+
+import drjit as dr
+import mitsuba as mi
+
+
+def _sphere_solid_angle(center, radius, ref_p, sample):
+    """A point of the sphere seen from ``ref_p``, uniform in the cone it subtends.
+
+    Returns ``(p, n, pdf)``: the point, its outward normal and the density in solid angle
+    (0 when ``ref_p`` is inside)."""
+    to_ref = mi.Vector3f(ref_p - center)
+    dc2 = dr.squared_norm(to_ref)
+    outside = dc2 > dr.square(radius)
+    inv_dc = dr.rsqrt(dc2)
+    sin2_max = dr.minimum(dr.square(radius) * dr.rcp(dc2), 1.0)
+    cos_max = dr.safe_sqrt(1.0 - sin2_max)
+    one_minus_cos_max = sin2_max * dr.rcp(1.0 + cos_max)
+    u_omc = sample.x * one_minus_cos_max  # 1 - cos(theta), theta uniform in cos
+    cos_theta = 1.0 - u_omc
+    sin2_theta = u_omc * (2.0 - u_omc)
+    ratio = sin2_theta * dr.rcp(dr.maximum(sin2_max, 1e-30))
+    cos_alpha = sin2_theta * dr.rsqrt(dr.maximum(sin2_max, 1e-30)) + cos_theta * dr.safe_sqrt(
+        1.0 - ratio)
+    cos_alpha = dr.clip(cos_alpha, -1.0, 1.0)
+    sin_alpha = dr.safe_sqrt(1.0 - dr.square(cos_alpha))
+    sin_phi, cos_phi = dr.sincos(dr.two_pi * sample.y)
+    frame = mi.Frame3f(to_ref * inv_dc)
+    n = frame.to_world(mi.Vector3f(sin_alpha * cos_phi, sin_alpha * sin_phi, cos_alpha))
+    p = center + radius * n
+    pdf = dr.select(outside, dr.rcp(dr.two_pi * one_minus_cos_max), 0.0)
+    return mi.Point3f(p), mi.Normal3f(n), pdf
+
+
+def _sphere_solid_angle_pdf(center, radius, ref_p, p, n):
+    """Density in solid angle of :func:`_sphere_solid_angle` (the point is not needed)."""
+    dc2 = dr.squared_norm(ref_p - center)
+    sin2_max = dr.minimum(dr.square(radius) * dr.rcp(dc2), 1.0)
+    one_minus_cos_max = sin2_max * dr.rcp(1.0 + dr.safe_sqrt(1.0 - sin2_max))
+    return dr.select(dc2 > dr.square(radius), dr.rcp(dr.two_pi * one_minus_cos_max), 0.0)
+
+
+def _solid_angle_from_area(ref_p, p, n, area):
+    """The density t^2 / (area cos theta_l) of a uniform area sample seen from ``ref_p``
+    (0 where the surface faces away from it)."""
+    d = mi.Vector3f(ref_p - p)
+    dist2 = dr.squared_norm(d)
+    cos_l = dr.dot(n, d) * dr.rsqrt(dist2)
+    return dr.select(cos_l > 0.0, dist2 * dr.rcp(area * cos_l), 0.0)
+
+
+def _sphere_area(center, radius, ref_p, sample):
+    """A point uniform over the whole sphere; the density in solid angle from ``ref_p``."""
+    n = mi.warp.square_to_uniform_sphere(sample)
+    p = mi.Point3f(center + radius * n)
+    return p, mi.Normal3f(n), _sphere_area_pdf(center, radius, ref_p, p, n)
+
+
+def _sphere_area_pdf(center, radius, ref_p, p, n):
+    outside = dr.squared_norm(ref_p - center) > dr.square(radius)
+    area = 2.0 * dr.two_pi * dr.square(radius)
+    return dr.select(outside, _solid_angle_from_area(ref_p, p, n, area), 0.0)
+
+
+#: ``source_sampling`` -> ``(sample(center, radius, ref_p, sample) -> (p, n, pdf),
+#: pdf(center, radius, ref_p, p, n) -> pdf)`` for spheres.
+SPHERE_SAMPLING_METHODS = {
+    "solid_angle": (_sphere_solid_angle, _sphere_solid_angle_pdf),
+    "area": (_sphere_area, _sphere_area_pdf),
+}
+DEFAULT_SAMPLING = "solid_angle"
+
+
+def sphere_sample_direction(center, radius, ref_p, sample, method: str = DEFAULT_SAMPLING):
+    """``(p, n, pdf)``: a point of the sphere, its outward normal and the density in solid
+    angle seen from ``ref_p`` (0 when invalid), by ``method`` of
+    :data:`SPHERE_SAMPLING_METHODS`."""
+    return SPHERE_SAMPLING_METHODS[method][0](center, radius, ref_p, sample)
+
+
+def sphere_pdf_direction(center, radius, ref_p, p, n, method: str = DEFAULT_SAMPLING):
+    """The density in solid angle with which :func:`sphere_sample_direction` picks the
+    point ``p`` (normal ``n``) of the sphere from ``ref_p``."""
+    return SPHERE_SAMPLING_METHODS[method][1](center, radius, ref_p, p, n)
+
+
+def disk_point(to_world, radius, sample):
+    """A point uniform on the disk of ``radius`` in the plane z = 0 of ``to_world`` (a
+    rigid transform), and the disk's normal (world +Z of the frame)."""
+    local = mi.warp.square_to_uniform_disk_concentric(sample) * radius
+    p = to_world @ mi.Point3f(local.x, local.y, 0.0)
+    n = dr.normalize(to_world @ mi.Normal3f(0.0, 0.0, 1.0))
+    return mi.Point3f(p), mi.Normal3f(n)
+
+
+def disk_sample_direction(to_world, radius, ref_p, sample):
+    """``(p, n, pdf)``: a point uniform by area on the disk (front side +Z only) and its
+    density in solid angle from ``ref_p`` (0 behind the disk)."""
+    p, n = disk_point(to_world, radius, sample)
+    return p, n, disk_pdf_direction(radius, ref_p, p, n)
+
+
+def disk_pdf_direction(radius, ref_p, p, n):
+    """The density in solid angle of :func:`disk_sample_direction` at the point ``p``."""
+    return _solid_angle_from_area(ref_p, p, n, dr.pi * dr.square(radius))
+
+
+def sphere_projected_area(radius):
+    """A_proj of a sphere: pi r^2 in every direction."""
+    return dr.pi * dr.square(radius)
+
+
+def disk_projected_area(radius, cos_gamma):
+    """A_proj of a disk seen at the angle gamma from its normal: pi r^2 cos(gamma) (0 from
+    behind)."""
+    return dr.pi * dr.square(radius) * dr.maximum(cos_gamma, 0.0)
