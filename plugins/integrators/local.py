@@ -10,33 +10,37 @@ light through smooth (delta) BSDFs, whose ``eval`` is 0.
 Parameters
 ----------
 
-=================  ========  =======  ========  ==============================================
-parameter          type      default  unit      description
-=================  ========  =======  ========  ==============================================
-``shading``        string    phong    --        ``flat``: the face (geometric) normal;
-                                                ``phong``: the interpolated shading normal;
-                                                ``gouraud``: the whole model evaluated at the
-                                                three vertices of the hit triangle and the
-                                                radiances interpolated (below)
-``shadows``        boolean   true     --        cast a shadow ray towards every light
-``shadow_bias``    float     0.001    m         offset of the shadow-ray origin along the
-                                                geometric normal, >= 0; the ray starts at p +
-                                                bias n with no further automatic offset, so 0
-                                                shows shadow acne
-``ambient``        spectrum  0        W/m^2     irradiance of the indirect light (an emission
-                                                spectrum: RGB values are illuminants,
-                                                D65-based in spectral variants), >= 0; adds
-                                                rho / pi * ambient
-``fog``            string    none     --        fog law f(d): ``none``, ``linear``,
-                                                ``exponential``, ``exponential_squared`` (see
-                                                ``spectrace help fog``)
-``fog_start``      float     0        m         ``linear``: distance where fog begins, >= 0
-``fog_end``        float     1        m         ``linear``: distance of full fog, > fog_start
-``fog_density``    float     1        1/m       exponential laws: density, >= 0
-``fog_color``      spectrum  0        W/m^2/sr  radiance of the fog, >= 0 (an emission
-                                                spectrum)
-``hide_emitters``  boolean   false    --        do not show emitters seen directly
-=================  ========  =======  ========  ==============================================
+==================  ========  =======  ========  ==============================================
+parameter           type      default  unit      description
+==================  ========  =======  ========  ==============================================
+``shading``         string    phong    --        ``flat``: the face (geometric) normal;
+                                                 ``phong``: the interpolated shading normal;
+                                                 ``gouraud``: the whole model evaluated at the
+                                                 three vertices of the hit triangle and the
+                                                 radiances interpolated (below)
+``shadows``         boolean   true     --        cast a shadow ray towards every light
+``shadow_samples``  integer   1        --        light samples (shadow rays) per light with a
+                                                 size (``source_radius`` > 0, area lights),
+                                                 averaged: the penumbra's noise falls as
+                                                 1/sqrt(N); delta lights always take one, >= 1
+``shadow_bias``     float     0.001    m         offset of the shadow-ray origin along the
+                                                 geometric normal, >= 0; the ray starts at p +
+                                                 bias n with no further automatic offset, so 0
+                                                 shows shadow acne
+``ambient``         spectrum  0        W/m^2     irradiance of the indirect light (an emission
+                                                 spectrum: RGB values are illuminants,
+                                                 D65-based in spectral variants), >= 0; adds
+                                                 rho / pi * ambient
+``fog``             string    none     --        fog law f(d): ``none``, ``linear``,
+                                                 ``exponential``, ``exponential_squared`` (see
+                                                 ``spectrace help fog``)
+``fog_start``       float     0        m         ``linear``: distance where fog begins, >= 0
+``fog_end``         float     1        m         ``linear``: distance of full fog, > fog_start
+``fog_density``     float     1        1/m       exponential laws: density, >= 0
+``fog_color``       spectrum  0        W/m^2/sr  radiance of the fog, >= 0 (an emission
+                                                 spectrum)
+``hide_emitters``   boolean   false    --        do not show emitters seen directly
+==================  ========  =======  ========  ==============================================
 
 The parameters are read at load; none is exposed to ``mi.traverse``. Defaults of the fog
 parameters are OpenGL's (start 0, end 1, density 1, colour black).
@@ -59,9 +63,11 @@ directly (unless ``hide_emitters``). d is the distance from the camera (the hit'
 parameter t; the camera rays are normalized). Rays that hit nothing have d = infinity:
 with fog on they get fog_color (f = 0), except with density 0.
 
-Non-delta emitters (area lights, environment maps) are *sampled*, not rejected: each
-gets one emitter sample (``sample_direction`` with a fresh 2D sample) per pixel sample,
-an unbiased but noisy estimate of its direct light; raise ``spp`` for them.
+Non-delta emitters (lights with a ``source_radius``, area lights, environment maps) are
+*sampled*, not rejected: each gets ``shadow_samples`` emitter samples (``sample_direction``
+with fresh 2D samples, each with its shadow ray) per pixel sample, averaged, an unbiased
+but noisy estimate of its direct light (the noise of a penumbra); raise ``shadow_samples``
+or ``spp`` for them.
 
 Details and choices:
 
@@ -195,6 +201,7 @@ class Local(mi.SamplingIntegrator):
         super().__init__(props)
         self.shading = params.read_choice(props, PLUGIN, "shading", "phong", SHADING_MODELS)
         self.shadows = params.read_bool(props, PLUGIN, "shadows", True)
+        self.shadow_samples = params.read_int(props, PLUGIN, "shadow_samples", 1, minimum=1)
         self.shadow_bias = params.read_float(props, PLUGIN, "shadow_bias", 1e-3, minimum=0.0,
                                              finite=True)
         self.ambient = self._spectrum(props, "ambient")
@@ -249,7 +256,10 @@ class Local(mi.SamplingIntegrator):
 
         def body(j, L, sampler):
             emitter = dr.gather(mi.EmitterPtr, emitters, j, active)
-            L += light(emitter, sampler.next_2d(active), active)
+            if self.shadow_samples == 1:
+                L += light(emitter, sampler.next_2d(active), active)
+            else:
+                L += self._averaged_light(emitter, sampler, light, active)
             return j + 1, L, sampler
 
         _, L, _ = dr.while_loop(
@@ -260,6 +270,26 @@ class Local(mi.SamplingIntegrator):
             label="local: lights",
         )
         return L
+
+    def _averaged_light(self, emitter, sampler, light, active):
+        """The mean of ``shadow_samples`` evaluations of ``light`` for a light with a size
+        (one for a delta light: its samples are all the same), as a symbolic loop."""
+        count = dr.select(mi.has_flag(emitter.flags(), mi.EmitterFlags.Delta),
+                          mi.UInt32(1), mi.UInt32(self.shadow_samples))
+
+        def body(k, L, sampler):
+            L += light(emitter, sampler.next_2d(active), active)
+            return k + 1, L, sampler
+
+        _, L, _ = dr.while_loop(
+            state=(dr.zeros(mi.UInt32, dr.width(active)), dr.zeros(mi.Spectrum,
+                                                                  dr.width(active)), sampler),
+            cond=lambda k, L, sampler: k < count,
+            body=body,
+            labels=("k", "L", "sampler"),
+            label="local: shadow samples",
+        )
+        return L * dr.rcp(mi.Float(count))
 
     def _visible(self, scene, si, ds, radiance, active):
         """Whether the light sample is lit and unoccluded, the shadow ray starting at
@@ -339,7 +369,8 @@ class Local(mi.SamplingIntegrator):
     def to_string(self):
         return (
             f"Local[shading={self.shading!r}, shadows={self.shadows}, "
-            f"shadow_bias={self.shadow_bias}, fog={self.fog!r}]"
+            f"shadow_samples={self.shadow_samples}, shadow_bias={self.shadow_bias}, "
+            f"fog={self.fog!r}]"
         )
 
 
