@@ -1,0 +1,136 @@
+"""Tests of the emitting geometry of the sized lights (``plugins/emitters/opening.py``):
+each sampling routine's density is what it reports (chi-square through the lights'
+``sample_direction`` and ``pdf_direction``), and the densities integrate to 1."""
+
+from __future__ import annotations
+
+import emitter_checks as checks
+import numpy as np
+import pytest
+
+#: Significance level of the chi-square tests.
+CHI2_SIGNIFICANCE = 0.01
+#: The mean of 1/pdf over the samples is the solid angle the samples cover.
+RTOL_SOLID_ANGLE = 5e-3
+REF = (0.1, -0.2, 0.3)
+
+
+def carried(light: dict):
+    """(scene, emitter): ``light`` on its shape (``sized.expand_dict``), alone in a scene."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import sized
+
+    scene = mi.load_dict(sized.expand_dict({"type": "scene", "light": light}))
+    return scene, scene.emitters()[0]
+
+
+def direction_pdf(scene, emitter, it, d):
+    """The density pdf_direction reports for the direction ``d`` from ``it``: the ray is
+    traced to the light's shape and the direction sample built as the integrators build
+    it for multiple importance sampling (0 where it misses)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    it = dr.zeros(mi.Interaction3f, dr.width(d)) if it is None else it
+    it.p = mi.Point3f(*REF)
+    si = scene.ray_intersect(mi.Ray3f(it.p, d))
+    ds = mi.DirectionSample3f(scene, si, it)
+    return dr.select(si.is_valid(), emitter.pdf_direction(it, ds, si.is_valid()), 0.0)
+
+
+def lights():
+    T = checks.transform()
+    return {
+        "sphere_far": {"type": "pointlight", "position": [0.4, 2.0, 0.3], "source_radius": 0.5},
+        "sphere_near": {"type": "pointlight", "position": [0.1, 0.1, 0.3],
+                        "source_radius": 0.25},
+        "disk": {"type": "spotlight", "source_radius": 0.6, "umbra_angle": 80,
+                 "penumbra_angle": 60,
+                 "to_world": T.look_at([0.5, 0.7, 0.2], list(REF), [0, 0, 1])},
+        "disk_oblique": {"type": "spotlight", "source_radius": 0.6, "umbra_angle": 85,
+                         "penumbra_angle": 60,
+                         "to_world": T.look_at([0.5, 0.4, 0.2], [1.094, -0.404, 0.247],
+                                               [0, 0, 1])},  # 70 degrees to REF
+    }
+
+
+@pytest.mark.parametrize("name", ["sphere_far", "sphere_near", "disk", "disk_oblique"])
+def test_sample_direction_chi2(variant_rgb, name):
+    """The directions ``sample_direction`` draws from a point follow the density that
+    ``pdf_direction`` reports for the hit the integrators build (mitsuba.chi2 on the sphere
+    of directions): the sphere's cone sampling seen from afar and from close by, the disk's
+    area sampling facing the point and seen obliquely."""
+    import drjit as dr
+    import mitsuba as mi
+    from mitsuba import chi2
+
+    scene, emitter = carried(lights()[name])
+
+    def sample(s):
+        it = dr.zeros(mi.Interaction3f, dr.width(s))
+        it.p = mi.Point3f(*REF)
+        ds, _ = emitter.sample_direction(it, s)
+        return ds.d
+
+    def pdf(d):
+        return direction_pdf(scene, emitter, None, d)
+
+    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
+                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
+                              ires=64)
+    assert test.run(CHI2_SIGNIFICANCE), test.messages
+
+
+@pytest.mark.parametrize("method", ["solid_angle", "area"])
+def test_sphere_densities_cover_the_cone(variant_rgb, rng, method):
+    """Sum of 1 / pdf over the valid samples / number of samples estimates the solid angle
+    they cover, the cone 2 pi (1 - cos theta_max), for both methods; every solid-angle
+    sample is valid, and of the area samples those on the cap seen from the point,
+    (1 - r / d) / 2 of the sphere (the rest faces away: density 0)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    center, radius = np.array([0.4, 2.0, 0.3]), 0.5
+    emitter = mi.load_dict({"type": "pointlight", "position": list(center),
+                            "source_radius": radius, "source_sampling": method})
+    n = 200_000
+    u = rng.random((2, n)).astype(np.float32)
+    it = dr.zeros(mi.Interaction3f, n)
+    it.p = mi.Point3f(*REF)
+    ds, _ = emitter.sample_direction(it, mi.Point2f(u[0], u[1]))
+    pdf = np.broadcast_to(np.array(ds.pdf, dtype=np.float64), (n,))
+    valid = pdf > 0
+    d = np.linalg.norm(center - np.array(REF))
+    cone = 2 * np.pi * (1 - np.sqrt(1 - (radius / d) ** 2))
+    covered = 1.0 if method == "solid_angle" else (1 - radius / d) / 2
+    assert valid.mean() == pytest.approx(covered, abs=5e-3)
+    assert np.sum(1.0 / pdf[valid]) / n == pytest.approx(cone, rel=RTOL_SOLID_ANGLE)
+
+
+def test_sphere_sample_ray_chi2(variant_rgb):
+    """``sample_ray`` of a sized point light leaves a uniform point of the sphere in a
+    cosine-distributed direction about its normal: the directions are then uniform over
+    the sphere of directions (integral over the sphere of cos+/pi dA / A = 1 / (4 pi)),
+    mitsuba.chi2 against that density, each ray of weight 4 pi I."""
+    import drjit as dr
+    import mitsuba as mi
+    from mitsuba import chi2
+
+    light = mi.load_dict({"type": "pointlight", "position": [0.2, 0.1, 0.3],
+                          "source_radius": 0.3, "intensity": 2.0})
+    rng = np.random.default_rng(5)
+
+    def sample(s):
+        u = rng.random((2, dr.width(s))).astype(np.float32)
+        ray, weight = light.sample_ray(0.0, 0.5, mi.Point2f(u[0], u[1]), s)
+        return ray.d
+
+    def pdf(d):
+        return dr.full(mi.Float, 1.0 / (4.0 * np.pi), dr.width(d))
+
+    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
+                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
+                              ires=16)
+    assert test.run(CHI2_SIGNIFICANCE), test.messages
+    _, weight = light.sample_ray(0.0, 0.5, mi.Point2f(0.3, 0.7), mi.Point2f(0.1, 0.2))
+    np.testing.assert_allclose(np.array(weight).ravel(), 4 * np.pi * 2.0, rtol=1e-6)
