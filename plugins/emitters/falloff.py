@@ -73,13 +73,6 @@ from spectrace.plugins import params
 DEFAULT_LAW = "inverse_square"
 
 
-#: Aliases of the typed-parameter helpers (:mod:`spectrace.plugins.params`), kept for the
-#: lights that call them through this module.
-type_name = params.xml_type
-read_float = params.read_float
-read_choice = params.read_choice
-
-
 class InverseSquare:
     """1 / r^2: the physical law of a point source."""
 

@@ -230,8 +230,8 @@ class PointLight(delta.DeltaLight):
     def to_string(self):
         return (
             f"PointLight[position={self.position}, "
-            f"{self._emission_string()}, "
-            f"falloff={self.law!r}, source_radius={self.source_radius}]"
+            f"{self._emission_string()}, source_radius={self.source_radius}, "
+            f"falloff={self.law!r}]"
         )
 
 

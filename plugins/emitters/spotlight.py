@@ -7,8 +7,10 @@ surface point at distance r whose normal makes the angle theta with the directio
 light receives E = I(alpha) falloff(r) cos(theta), with the distance laws of
 ``pointlight``. With ``cone_falloff`` = ``linear_angle`` and the default distance law it
 renders like Mitsuba's built-in ``spot`` (``cutoff_angle`` = ``umbra_angle``,
-``beam_width`` = ``penumbra_angle``; those two names are refused here, with a pointer to
-ours) in every variant, unpolarized (a depolarizing Mueller matrix) in polarized ones.
+``beam_width`` = ``penumbra_angle``: Mitsuba's names are accepted for ours, and with
+``cutoff_angle`` alone the penumbra is Mitsuba's default 3/4 of it) in every variant,
+unpolarized (a depolarizing Mueller matrix) in polarized ones. With ``source_radius``
+the light is a disk facing +Z (see ``spectrace help sized``).
 
 Parameters
 ----------
@@ -122,13 +124,11 @@ PLUGIN = "spotlight"
 #: Smallest cos(penumbra) - cos(umbra) and umbra - penumbra (rad) used as a divisor: a
 #: hard-edged cone when the two angles are equal.
 MIN_WIDTH = 1e-7
-#: Parameters of Mitsuba's built-in ``spot`` and the names spotlight gives them.
 #: Largest ``penumbra_angle`` (excluded) of a sized spot: full intensity at 90 degrees from
 #: the disk's normal would need an infinite radiance.
 MAX_SIZED_PENUMBRA = 90.0
-MITSUBA_SPOT_PARAMETERS = {"cutoff_angle": "umbra_angle", "beam_width": "penumbra_angle"}
-ANGLE_MEANINGS = {"umbra_angle": "the outer half-angle, no light outside",
-                  "penumbra_angle": "the inner half-angle, full intensity inside"}
+#: spotlight's half-angles and their names in Mitsuba's built-in ``spot`` (accepted too).
+MITSUBA_NAMES = {"umbra_angle": "cutoff_angle", "penumbra_angle": "beam_width"}
 
 
 class Quadratic:
@@ -197,6 +197,33 @@ def uniform_wavelength_pdf(wavelengths):
     return dr.select(inside, 1.0 / (mi.MI_CIE_MAX - mi.MI_CIE_MIN), 0.0)
 
 
+def _angle(props, ours: str, default: float):
+    """The half-angle ``ours`` or its Mitsuba ``spot`` name (not both), or ``default``."""
+    theirs = MITSUBA_NAMES[ours]
+    if ours in props and theirs in props:
+        raise ValueError(
+            f"{PLUGIN}: give either parameter '{ours}' or Mitsuba's name for it, "
+            f"'{theirs}', not both"
+        )
+    name = theirs if theirs in props else ours
+    return falloff.parse_angle(props, PLUGIN, name, default)
+
+
+def parse_cone_angles(props) -> tuple[float, float]:
+    """``(umbra, penumbra)`` in degrees from ``umbra_angle``/``cutoff_angle`` and
+    ``penumbra_angle``/``beam_width`` (Mitsuba's default beam width 3/4 of its cutoff
+    when only ``cutoff_angle`` is given), penumbra <= umbra."""
+    umbra = _angle(props, "umbra_angle", 30.0)
+    mitsuba_default = "cutoff_angle" in props and "penumbra_angle" not in props
+    penumbra = _angle(props, "penumbra_angle", 0.75 * umbra if mitsuba_default else 20.0)
+    if penumbra > umbra:
+        raise ValueError(
+            f"{PLUGIN}: parameter 'penumbra_angle' must be <= umbra_angle "
+            f"(got penumbra_angle={penumbra}, umbra_angle={umbra})"
+        )
+    return umbra, penumbra
+
+
 #: The one mapping from ``cone_falloff`` to its law.
 CONE_FALLOFFS = {
     "quadratic": Quadratic,
@@ -211,20 +238,8 @@ class SpotLight(delta.DeltaLight):
     def __init__(self, props):
         mi.Emitter.__init__(self, props)
         self.to_world = falloff.parse_to_world(props)
-        for name, ours in MITSUBA_SPOT_PARAMETERS.items():
-            if name in props:
-                raise ValueError(
-                    f"{PLUGIN}: parameter '{name}' is Mitsuba's spot's; spotlight calls it "
-                    f"'{ours}' ({ANGLE_MEANINGS[ours]}, in degrees)"
-                )
         self._init_emission(props, PLUGIN)
-        umbra = falloff.parse_angle(props, PLUGIN, "umbra_angle", 30.0)
-        penumbra = falloff.parse_angle(props, PLUGIN, "penumbra_angle", 20.0)
-        if penumbra > umbra:
-            raise ValueError(
-                f"{PLUGIN}: parameter 'penumbra_angle' must be <= umbra_angle "
-                f"(got penumbra_angle={penumbra}, umbra_angle={umbra})"
-            )
+        umbra, penumbra = parse_cone_angles(props)
         self.cone_name = params.read_choice(props, PLUGIN, "cone_falloff", "quadratic",
                                             CONE_FALLOFFS)
         self.cone = CONE_FALLOFFS[self.cone_name]

@@ -217,9 +217,9 @@ def test_penumbra_of_a_straight_edge(variant_rgb):
 @pytest.mark.parametrize("kind", ["sphere", "disk"])
 def test_camera_sees_luminance_over_projected_area(variant, kind):
     """Camera rays (a pixel of 0.05 degrees aimed at the centre) that hit the source see
-    L = I(omega) / A_proj(omega): I / (pi r^2) on the sphere, I(gamma) / (pi r^2 cos gamma) on the disk seen at gamma = 30 degrees
-    from its axis (quadratic cone, penumbra 40: full intensity there), as Mitsuba's
-    ``area`` emitter of that radiance shows it."""
+    L = I(omega) / A_proj(omega): I / (pi r^2) on the sphere, I(gamma) / (pi r^2 cos
+    gamma) on the disk seen at gamma = 30 degrees from its axis (quadratic cone, penumbra
+    40: full intensity there), as Mitsuba's ``area`` emitter of that radiance shows it."""
     import mitsuba as mi
     from spectrace.plugins.emitters import sized
 

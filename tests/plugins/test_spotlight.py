@@ -439,15 +439,36 @@ def test_gobo_pdf_wavelengths_is_the_density_sampled(variant_spectral):
     assert not np.allclose(own, np.array(pdf), rtol=1e-2)
 
 
+def test_mitsuba_spot_angles_are_accepted(variant):
+    """Mitsuba's ``spot`` calls the angles ``cutoff_angle`` and ``beam_width``: given to
+    ``spotlight`` with ``cone_falloff=linear_angle`` they render exactly as ``spot`` with
+    the same parameters, also with ``cutoff_angle`` alone (Mitsuba's beam width, 3/4 of
+    the cutoff)."""
+    import mitsuba as mi
+
+    T = checks.transform()
+    frame = T.look_at(list(P_LIGHT), list(TARGET), [0, 0, 1])
+    for angles in ({"cutoff_angle": UMBRA, "beam_width": PENUMBRA}, {"cutoff_angle": UMBRA}):
+        images = []
+        for kind, extra in (("spot", {}), ("spotlight", {"cone_falloff": "linear_angle"})):
+            light = {"type": kind, "to_world": frame, "intensity": INTENSITY, **angles, **extra}
+            images.append(checks.render(light, spp=4, sensor="perspective", res=16, seed=2))
+        assert images[0].max() > 0.0
+        np.testing.assert_allclose(images[1], images[0], rtol=RTOL_SAME,
+                                   atol=RTOL_SAME * images[0].max(), err_msg=str(angles))
+    light = mi.load_dict({"type": "spotlight", "cutoff_angle": 40.0})
+    assert float(mi.traverse(light)["penumbra_angle"][0]) == pytest.approx(30.0)
+
+
 @pytest.mark.parametrize(("name", "ours"), [("cutoff_angle", "umbra_angle"),
                                             ("beam_width", "penumbra_angle")])
-def test_mitsuba_spot_angles_point_to_ours(variant_rgb, name, ours):
-    """Mitsuba's ``spot`` calls the angles ``cutoff_angle`` and ``beam_width``: given to
-    ``spotlight`` they fail in one line that names spotlight's parameter."""
+def test_both_names_of_an_angle_fail(variant_rgb, name, ours):
+    """An angle given under both names (ours and Mitsuba's) fails in one line naming
+    both."""
     import mitsuba as mi
 
     with pytest.raises(Exception) as info:
-        mi.load_dict({"type": "spotlight", name: 20.0})
+        mi.load_dict({"type": "spotlight", name: 20.0, ours: 20.0})
     line = next(l for l in str(info.value).splitlines() if "spotlight: " in l)
     assert f"'{name}'" in line and f"'{ours}'" in line, line
 
