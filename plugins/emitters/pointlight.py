@@ -8,6 +8,9 @@ surface of albedo rho shows the radiance rho / pi * E. With the default
 (same samples, same image up to float rounding) in every variant, and in polarized
 variants it emits unpolarized light (a depolarizing Mueller matrix) as ``point`` does.
 Only ``inverse_square`` is physical: ``ptracer`` (light tracing) always produces 1/r^2.
+With ``source_radius`` > 0 the light is a sphere (the law must then be ``inverse_square``):
+``spectrace render`` carries it on a black ``sphere`` shape so that camera and BSDF rays
+hit it (``spectrace help sized``).
 
 Parameters
 ----------
@@ -40,6 +43,13 @@ parameter               type       default         unit  description
                                                          (see ``spectrace help falloff`` for the
                                                          laws and their parameters ``epsilon``,
                                                          ``kc``, ``kl``, ``kq``, ``radius``)
+``source_radius``       float      0               m     radius r of the light: 0 a point; > 0 a
+                                                         Lambertian sphere of radiance I / (pi r^2),
+                                                         the same I, power and flux, soft shadows,
+                                                         seen by the camera (``spectrace help
+                                                         sized``); >= 0
+``source_sampling``     string     solid_angle     --    how the sphere is sampled: ``solid_angle``
+                                                         or ``area`` (``spectrace help opening``)
 ``sampling_weight``     float      1               --    relative chance that an integrator
                                                          picks this light to sample
                                                          (Mitsuba's emitters) |exposed|

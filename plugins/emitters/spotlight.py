@@ -56,6 +56,13 @@ parameter               type       default         unit     description
                                                             z = 1 (as the built-in ``spot``);
                                                             its own parameters say which are
                                                             differentiable |exposed|
+``source_radius``       float      0               m        radius r of the light: 0 a point;
+                                                            > 0 a disk facing local +Z of
+                                                            radiance I(omega) / (pi r^2 cos
+                                                            gamma), so that far away it is the
+                                                            point spot (``spectrace help
+                                                            sized``); needs penumbra_angle < 90;
+                                                            >= 0
 ``sampling_weight``     float      1               --       relative chance that an integrator
                                                             picks this light to sample
                                                             (Mitsuba's emitters) |exposed|

@@ -134,3 +134,10 @@ def test_sphere_sample_ray_chi2(variant_rgb):
     assert test.run(CHI2_SIGNIFICANCE), test.messages
     _, weight = light.sample_ray(0.0, 0.5, mi.Point2f(0.3, 0.7), mi.Point2f(0.1, 0.2))
     np.testing.assert_allclose(np.array(weight).ravel(), 4 * np.pi * 2.0, rtol=1e-6)
+
+
+def test_reference_page(variant_rgb):
+    """The helper page of ``opening`` follows the one reference-page format."""
+    from spectrace.plugins.emitters import opening
+
+    assert set(checks.parse_reference_page(opening.__doc__, "opening")) == {"source_sampling"}

@@ -325,3 +325,10 @@ def test_bad_input_fails_at_load_naming_the_parameter(variant_rgb, kind, extra, 
         mi.load_dict(light)
     message = str(error.value).strip().splitlines()[-1]
     assert words in message, message
+
+
+def test_reference_page(variant_rgb):
+    """The helper page of ``sized`` follows the one reference-page format."""
+    from spectrace.plugins.emitters import sized
+
+    assert set(checks.parse_reference_page(sized.__doc__, "sized")) == {"source_radius"}
