@@ -8,7 +8,9 @@ tested (``tests/studies/``) and shared:
 * :mod:`spectrace.studies.phong_vs_energy`: white-furnace albedo and bounce series of
   classic and normalized Phong, Blinn-Phong and microfacet BSDFs (``phong_vs_energy.ipynb``);
 * :mod:`spectrace.studies.light_falloff`: distance laws, cone falloffs and fog laws in
-  closed form, and the floor-irradiance measurement (``light_falloff.ipynb``).
+  closed form, and the floor-irradiance measurement (``light_falloff.ipynb``);
+* :mod:`spectrace.studies.near_field`: the point approximation's error near lights with a
+  size, umbra and penumbra, shadow-sample noise (``near_field.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what
