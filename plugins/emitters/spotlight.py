@@ -138,49 +138,43 @@ MAX_SIZED_PENUMBRA = 90.0
 MITSUBA_NAMES = {"umbra_angle": "cutoff_angle", "penumbra_angle": "beam_width"}
 
 
-class Quadratic:
+def _t(cos_alpha, cos_umbra, inv_cos_width):
+    """t = clamp((cos alpha - cos u) / (cos p - cos u), 0, 1)."""
+    return dr.clip((cos_alpha - cos_umbra) * inv_cos_width, 0.0, 1.0)
+
+
+def quadratic(cos_alpha, *, cos_umbra, inv_cos_width, **_):
     """t^2: the quadratic penumbra (the default)."""
-
-    @staticmethod
-    def profile(light, cos_alpha):
-        return dr.square(dr.clip((cos_alpha - light.cos_umbra) * light.inv_cos_width, 0.0, 1.0))
-
-    @staticmethod
-    def solid_angle(light):
-        cos_p, cos_u = light.cos_penumbra, light.cos_umbra
-        return dr.two_pi * ((1.0 - cos_p) + (cos_p - cos_u) * (1.0 / 3.0))
+    return dr.square(_t(cos_alpha, cos_umbra, inv_cos_width))
 
 
-class Smoothstep:
+def smoothstep(cos_alpha, *, cos_umbra, inv_cos_width, **_):
     """3 t^2 - 2 t^3: pbrt-v4's penumbra."""
-
-    @staticmethod
-    def profile(light, cos_alpha):
-        t = dr.clip((cos_alpha - light.cos_umbra) * light.inv_cos_width, 0.0, 1.0)
-        return dr.square(t) * dr.fma(t, -2.0, 3.0)
-
-    @staticmethod
-    def solid_angle(light):
-        cos_p, cos_u = light.cos_penumbra, light.cos_umbra
-        return dr.two_pi * ((1.0 - cos_p) + (cos_p - cos_u) * 0.5)
+    t = _t(cos_alpha, cos_umbra, inv_cos_width)
+    return dr.square(t) * dr.fma(t, -2.0, 3.0)
 
 
-class LinearAngle:
+def linear_angle(cos_alpha, *, cos_umbra, umbra_rad, inv_angle_width, **_):
     """(umbra - alpha) / (umbra - penumbra): Mitsuba's built-in ``spot``."""
+    ramp = (umbra_rad - dr.safe_acos(cos_alpha)) * inv_angle_width
+    return dr.select(cos_alpha > cos_umbra, dr.minimum(ramp, 1.0), 0.0)
 
-    @staticmethod
-    def profile(light, cos_alpha):
-        ramp = (light.umbra_rad - dr.safe_acos(cos_alpha)) * light.inv_angle_width
-        return dr.select(cos_alpha > light.cos_umbra, dr.minimum(ramp, 1.0), 0.0)
 
-    @staticmethod
-    def solid_angle(light):
-        # (sin u - sin p) / (u - p) = cos((u + p) / 2) * sinc((u - p) / 2), stable as u -> p.
-        half = 0.5 * (light.umbra_rad - light.penumbra_rad)
-        sinc = dr.select(half > 1e-4, dr.sin(half) / dr.maximum(half, 1e-4),
-                         1.0 - dr.square(half) * (1.0 / 6.0))
-        mean = dr.cos(0.5 * (light.umbra_rad + light.penumbra_rad)) * sinc
-        return dr.two_pi * (1.0 - mean)
+def _quadratic_solid_angle(*, cos_umbra, cos_penumbra, **_):
+    return dr.two_pi * ((1.0 - cos_penumbra) + (cos_penumbra - cos_umbra) * (1.0 / 3.0))
+
+
+def _smoothstep_solid_angle(*, cos_umbra, cos_penumbra, **_):
+    return dr.two_pi * ((1.0 - cos_penumbra) + (cos_penumbra - cos_umbra) * 0.5)
+
+
+def _linear_angle_solid_angle(*, umbra_rad, penumbra_rad, **_):
+    # (sin u - sin p) / (u - p) = cos((u + p) / 2) * sinc((u - p) / 2), stable as u -> p.
+    half = 0.5 * (umbra_rad - penumbra_rad)
+    sinc = dr.select(half > 1e-4, dr.sin(half) / dr.maximum(half, 1e-4),
+                     1.0 - dr.square(half) * (1.0 / 6.0))
+    mean = dr.cos(0.5 * (umbra_rad + penumbra_rad)) * sinc
+    return dr.two_pi * (1.0 - mean)
 
 
 def has_pdf_spectrum(texture) -> bool:
@@ -231,11 +225,20 @@ def parse_cone_angles(props) -> tuple[float, float]:
     return umbra, penumbra
 
 
-#: The one mapping from ``cone_falloff`` to its law.
-CONE_FALLOFFS = {
-    "quadratic": Quadratic,
-    "smoothstep": Smoothstep,
-    "linear_angle": LinearAngle,
+#: The cone laws, colour-science's ``*_METHODS`` style: ``cone_falloff`` value ->
+#: ``cone(cos_alpha, **angles)``, with ``angles`` the light's cached keywords
+#: (:meth:`SpotLight.angles`: ``cos_umbra``, ``cos_penumbra``, ``umbra_rad``,
+#: ``penumbra_rad``, ``inv_cos_width``, ``inv_angle_width``; each law takes those it uses).
+CONE_METHODS = {
+    "quadratic": quadratic,
+    "smoothstep": smoothstep,
+    "linear_angle": linear_angle,
+}
+#: ``cone_falloff`` value -> ``Omega(**angles)``, the integral of the law over the sphere.
+CONE_SOLID_ANGLE_METHODS = {
+    "quadratic": _quadratic_solid_angle,
+    "smoothstep": _smoothstep_solid_angle,
+    "linear_angle": _linear_angle_solid_angle,
 }
 
 
@@ -248,8 +251,7 @@ class SpotLight(delta.DeltaLight):
         self._init_emission(props, PLUGIN)
         umbra, penumbra = parse_cone_angles(props)
         self.cone_name = params.read_choice(props, PLUGIN, "cone_falloff", "quadratic",
-                                            CONE_FALLOFFS)
-        self.cone = CONE_FALLOFFS[self.cone_name]
+                                            CONE_METHODS)
         self.law = falloff.parse_falloff(props, PLUGIN)
         self.texture = params.read_texture(props, PLUGIN, "texture", None, minimum=0.0,
                                            what="a texture (gobo)")
@@ -286,7 +288,8 @@ class SpotLight(delta.DeltaLight):
         self.inv_cos_width = dr.rcp(dr.maximum(self.cos_penumbra - self.cos_umbra, MIN_WIDTH))
         self.inv_angle_width = dr.rcp(dr.maximum(self.umbra_rad - self.penumbra_rad, MIN_WIDTH))
         self.uv_factor = dr.tan(self.umbra_rad)
-        self.scale = self._emission_scale(self.cone.solid_angle(self))
+        self.scale = self._emission_scale(
+            CONE_SOLID_ANGLE_METHODS[self.cone_name](**self.angles()))
         dr.make_opaque(
             self.to_world, self.to_local, self.position, self.umbra_rad, self.penumbra_rad,
             self.cos_umbra, self.cos_penumbra, self.inv_cos_width, self.inv_angle_width,
@@ -294,6 +297,15 @@ class SpotLight(delta.DeltaLight):
         )
         if self.scale is not None:
             dr.make_opaque(self.scale)
+
+    def angles(self) -> dict:
+        """The cached angles the cone laws take as keywords (see :data:`CONE_METHODS`)."""
+        return {"cos_umbra": self.cos_umbra, "cos_penumbra": self.cos_penumbra,
+                "umbra_rad": self.umbra_rad, "penumbra_rad": self.penumbra_rad,
+                "inv_cos_width": self.inv_cos_width, "inv_angle_width": self.inv_angle_width}
+
+    def _cone(self, cos_alpha):
+        return CONE_METHODS[self.cone_name](cos_alpha, **self.angles())
 
     def traverse(self, callback):
         self._traverse_emission(callback)
@@ -321,7 +333,7 @@ class SpotLight(delta.DeltaLight):
 
     def _emitted(self, local_d, wavelengths, time, active):
         """I(alpha) in the local direction ``local_d`` (not normalized)."""
-        cone = self.cone.profile(self, local_d.z * dr.rsqrt(dr.squared_norm(local_d)))
+        cone = self._cone(local_d.z * dr.rsqrt(dr.squared_norm(local_d)))
         si = self._spectral_si(wavelengths)
         value = self.intensity.eval(si, active)
         if self.texture is not None:
@@ -346,7 +358,7 @@ class SpotLight(delta.DeltaLight):
         if self.texture is not None:
             si.uv = self._direction_to_uv(local_d)
         wavelengths, weight = self.sample_wavelengths(si, wavelength_sample, active)
-        cone = self.cone.profile(self, local_d.z)
+        cone = self._cone(local_d.z)
         # Sized: L cos(gamma) A / (pdf_A pdf_omega) = I / pdf_omega, as the point spot.
         if self.source_radius > 0:
             ray = sized.spawn_ray(origin, normal, self.to_world @ local_d, time, wavelengths)

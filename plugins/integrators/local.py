@@ -123,12 +123,12 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
-from spectrace.plugins.integrators.fog import FOG_LAWS
+from spectrace.plugins.integrators.fog import FOG_METHODS
 
 PLUGIN = "local"
 
 
-def _shade_phong(integrator, scene, sampler, ray, pi, si, bsdf, active):
+def _shade_phong(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     """Model evaluated at the hit with its interpolated shading frame."""
 
     def light(emitter, sample, active):
@@ -140,15 +140,16 @@ def _shade_phong(integrator, scene, sampler, ray, pi, si, bsdf, active):
     return L + integrator._ambient_term(bsdf, si, active)
 
 
-def _shade_flat(integrator, scene, sampler, ray, pi, si, bsdf, active):
+def _shade_flat(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     """Model evaluated at the hit with the face (geometric) normal as shading normal."""
     si = mi.SurfaceInteraction3f(si)
     si.sh_frame = mi.Frame3f(si.n)
     si.wi = si.to_local(-ray.d)
-    return _shade_phong(integrator, scene, sampler, ray, pi, si, bsdf, active)
+    return _shade_phong(si, integrator=integrator, scene=scene, sampler=sampler, ray=ray,
+                        pi=pi, bsdf=bsdf, active=active)
 
 
-def _shade_gouraud(integrator, scene, sampler, ray, pi, si, bsdf, active):
+def _shade_gouraud(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     """Model evaluated at the triangle's vertices, radiance interpolated barycentrically.
 
     The surface interaction at vertex k is Mitsuba's own one at the barycentric corner k
@@ -186,8 +187,10 @@ def _shade_gouraud(integrator, scene, sampler, ray, pi, si, bsdf, active):
     return L
 
 
-#: XML name of the shading model -> function computing the reflected radiance of a hit.
-SHADING_MODELS = {
+#: The shading models, colour-science's ``*_METHODS`` style: ``shading`` value ->
+#: ``shade(si, *, integrator, scene, sampler, ray, pi, bsdf, active)``, the reflected
+#: radiance of the hit ``si``.
+SHADING_METHODS = {
     "flat": _shade_flat,
     "gouraud": _shade_gouraud,
     "phong": _shade_phong,
@@ -199,13 +202,13 @@ class Local(mi.SamplingIntegrator):
 
     def __init__(self, props):
         super().__init__(props)
-        self.shading = params.read_choice(props, PLUGIN, "shading", "phong", SHADING_MODELS)
+        self.shading = params.read_choice(props, PLUGIN, "shading", "phong", SHADING_METHODS)
         self.shadows = params.read_bool(props, PLUGIN, "shadows", True)
         self.shadow_samples = params.read_int(props, PLUGIN, "shadow_samples", 1, minimum=1)
         self.shadow_bias = params.read_float(props, PLUGIN, "shadow_bias", 1e-3, minimum=0.0,
                                              finite=True)
         self.ambient = self._spectrum(props, "ambient")
-        self.fog = params.read_choice(props, PLUGIN, "fog", "none", FOG_LAWS)
+        self.fog = params.read_choice(props, PLUGIN, "fog", "none", FOG_METHODS)
         self.fog_start = params.read_float(props, PLUGIN, "fog_start", 0.0, minimum=0.0,
                                            finite=True)
         self.fog_end = params.read_float(props, PLUGIN, "fog_end", 1.0, finite=True)
@@ -324,7 +327,8 @@ class Local(mi.SamplingIntegrator):
 
     def fog_fraction(self, d):
         """f(d) of the configured fog law for camera distances ``d``."""
-        return FOG_LAWS[self.fog](d, self.fog_start, self.fog_end, self.fog_density)
+        return FOG_METHODS[self.fog](d, start=self.fog_start, end=self.fog_end,
+                                     density=self.fog_density)
 
     # -- Mitsuba interface -----------------------------------------------------------
 
@@ -340,7 +344,8 @@ class Local(mi.SamplingIntegrator):
         if not self.hide_emitters:
             L += si.emitter(scene, active).eval(si, active)
         bsdf = si.bsdf(ray)
-        L += SHADING_MODELS[self.shading](self, scene, sampler, ray, pi, si, bsdf, hit)
+        L += SHADING_METHODS[self.shading](si, integrator=self, scene=scene, sampler=sampler,
+                                           ray=ray, pi=pi, bsdf=bsdf, active=hit)
 
         valid = hit
         if self.fog != "none":
