@@ -218,8 +218,9 @@ class PointLight(delta.DeltaLight):
     def sample_position(self, time, sample, active=True):
         if self.source_radius > 0:
             n = mi.Normal3f(mi.warp.square_to_uniform_sphere(sample))
-            return sized.position_sample(time, mi.Point3f(self.position + self.source_radius
-                                                          * n), n, self._area())
+            ps, weight = sized.position_sample(
+                time, mi.Point3f(self.position + self.source_radius * n), n, self._area())
+            return ps, weight if self.get_shape() is not None else weight * 0.0
         return self._position_sample(time), mi.Float(1.0)
 
     def pdf_position(self, ps, active=True):

@@ -357,7 +357,8 @@ class SpotLight(delta.DeltaLight):
         si.p = self.position
         if self.texture is not None:
             si.uv = self._direction_to_uv(local_d)
-        wavelengths, weight = self.sample_wavelengths(si, wavelength_sample, active)
+        wavelengths, weight = delta.DeltaLight.sample_wavelengths(self, si, wavelength_sample,
+                                                                  active)
         cone = self._cone(local_d.z)
         # Sized: L cos(gamma) A / (pdf_A pdf_omega) = I / pdf_omega, as the point spot.
         if self.source_radius > 0:
@@ -411,7 +412,8 @@ class SpotLight(delta.DeltaLight):
     def sample_position(self, time, sample, active=True):
         if self.source_radius > 0:
             p, n = opening.disk_point(self.to_world, self.source_radius, sample)
-            return sized.position_sample(time, p, n, self._area())
+            ps, weight = sized.position_sample(time, p, n, self._area())
+            return ps, weight if self.get_shape() is not None else weight * 0.0
         ps = self._position_sample(time)
         ps.n = self.to_world @ mi.Vector3f(0.0, 0.0, 1.0)
         ps.uv = mi.Point2f(0.5)
@@ -432,6 +434,24 @@ class SpotLight(delta.DeltaLight):
             p = mi.ScalarPoint3f(dr.slice(self.position, 0))
             return mi.ScalarBoundingBox3f(p - self.source_radius, p + self.source_radius)
         return super().bbox()
+
+    def sample_wavelengths(self, si, sample, active=True):
+        """Wavelengths and weight of the emission; for the sized spot at the point ``si``
+        of the disk towards the world direction ``si.wi`` (what ``ptracer`` asks when it
+        connects a visible light to the camera): L(omega) / p(lambda), 0 behind the disk
+        or from a disk that is not attached to a shape (invisible)."""
+        if self.source_radius <= 0:
+            return super().sample_wavelengths(si, sample, active)
+        local_d = self.to_local @ si.wi
+        si = mi.SurfaceInteraction3f(si)
+        if self.texture is not None:
+            si.uv = self._direction_to_uv(local_d)
+        wavelengths, weight = super().sample_wavelengths(si, sample, active)
+        area = opening.disk_projected_area(self.source_radius, local_d.z)
+        factor = dr.select(local_d.z > 0.0, self._cone(local_d.z) * dr.rcp(area), 0.0)
+        if self.get_shape() is None:
+            factor = 0.0
+        return wavelengths, weight * factor
 
     def _sample_spectrum(self, si, samples, active):
         """With a gobo, wavelengths follow the texture (as the built-in ``spot``), weighted

@@ -251,6 +251,40 @@ def test_camera_sees_luminance_over_projected_area(variant, kind):
     np.testing.assert_allclose(image, expected, rtol=RTOL_LUMINANCE)
 
 
+@pytest.mark.parametrize("kind", ["sphere", "disk"])
+def test_ptracer_sees_the_source_as_path_does(variant_rgb, kind):
+    """``ptracer`` connects points of the light's surface to the camera (sample_position,
+    sample_wavelengths towards the camera): the source seen directly has the luminance
+    path tracing gives it, the disk's directional one included (image sums within
+    noise), and a disk seen from behind is black for both."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import sized
+
+    T = checks.transform()
+    if kind == "sphere":
+        light = sphere_light(position=(0, 0, 0), radius=0.5)
+    else:
+        light = {"type": "spotlight", "to_world": T.look_at([0, 0, 0], [0, 0, 1], [0, 1, 0]),
+                 "intensity": INTENSITY, "umbra_angle": 60.0, "penumbra_angle": 40.0,
+                 "source_radius": 0.5}
+    for eye in ([0, 1.5, 2.6], [0, 1.5, -2.6]):
+        scene = {"type": "scene", "light": light,
+                 "sensor": {"type": "perspective", "fov": 30,
+                            "to_world": T.look_at(eye, [0, 0, 0], [0, 1, 0]),
+                            "film": {"type": "hdrfilm", "width": 16, "height": 16,
+                                     "rfilter": {"type": "box"}},
+                            "sampler": {"type": "independent", "sample_count": 256}}}
+        sums = []
+        for integrator in ("path", "ptracer"):
+            scene["integrator"] = {"type": integrator}
+            sums.append(np.array(mi.render(mi.load_dict(sized.expand_dict(scene)),
+                                           seed=4)).sum())
+        if kind == "disk" and eye[2] < 0:
+            assert sums == [0.0, 0.0]
+        else:
+            assert sums[1] == pytest.approx(sums[0], rel=RTOL_PTRACER)
+
+
 def block_means(image: np.ndarray, block: int = 8) -> np.ndarray:
     h, w, c = image.shape
     return image.reshape(h // block, block, w // block, block, c).mean(axis=(1, 3))
