@@ -33,7 +33,10 @@ parameter          type    default  unit  description
 
 With ``source_radius`` > 0 the distance law must be ``inverse_square`` (the other laws of
 ``falloff`` describe no emitting surface) and ``to_world`` must be rigid (rotation and
-translation, as ``lookat`` gives: the size is ``source_radius``).
+translation, as ``lookat`` gives: the size is ``source_radius``). ``source_radius`` is read
+at load (not exposed); moving a sized light through ``mi.traverse`` (``position``,
+``to_world``) moves its emission but not its shape: move the shape too. The shape is
+black (it absorbs what falls on it) and opaque (it casts a shadow on what lies behind).
 
 Formula
 -------
