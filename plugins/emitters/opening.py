@@ -13,7 +13,9 @@ normal to omega, so that far away the surface lights like the point light of int
 
 This module samples points of these surfaces for a shaded point (``sample_direction``) and
 gives the densities in solid angle that go with them (``pdf_direction``), for the
-integrators' next-event estimation and multiple importance sampling. Executed before the
+integrators' next-event estimation and multiple importance sampling; it also has the
+rectangle (sampling by area) and the projected areas of the rectangle, box and cylinder
+that the luminous openings of IES LM-63 files need. Executed before the
 lights (see ``spectrace.plugins.PLUGIN_MODULES``).
 
 Parameters
@@ -183,3 +185,52 @@ def disk_projected_area(radius, cos_gamma):
     """A_proj of a disk seen at the angle gamma from its normal: pi r^2 cos(gamma) (0 from
     behind)."""
     return dr.pi * dr.square(radius) * dr.maximum(cos_gamma, 0.0)
+
+
+def rectangle_point(to_world, half_x, half_y, sample):
+    """A point uniform on the rectangle [-half_x, half_x] x [-half_y, half_y] in the plane
+    z = 0 of ``to_world`` (rigid), and its normal (the frame's +Z): the luminous opening
+    of a rectangular luminaire (LM-63 length along local x, width along y)."""
+    local = mi.Point3f(dr.fma(sample.x, 2.0, -1.0) * half_x,
+                       dr.fma(sample.y, 2.0, -1.0) * half_y, 0.0)
+    return mi.Point3f(to_world @ local), mi.Normal3f(dr.normalize(
+        to_world @ mi.Normal3f(0.0, 0.0, 1.0)))
+
+
+def rectangle_sample_direction(to_world, half_x, half_y, ref_p, sample):
+    """``(p, n, pdf)``: a point uniform by area on the rectangle (front side +Z) and its
+    density in solid angle from ``ref_p`` (0 behind it)."""
+    p, n = rectangle_point(to_world, half_x, half_y, sample)
+    return p, n, rectangle_pdf_direction(half_x, half_y, ref_p, p, n)
+
+
+def rectangle_pdf_direction(half_x, half_y, ref_p, p, n):
+    """The density in solid angle of :func:`rectangle_sample_direction` at ``p``."""
+    return _solid_angle_from_area(ref_p, p, n, 4.0 * half_x * half_y)
+
+
+def rectangle_projected_area(half_x, half_y, cos_gamma):
+    """A_proj of a one-sided rectangle seen at gamma from its normal: 4 hx hy cos(gamma)."""
+    return 4.0 * half_x * half_y * dr.maximum(cos_gamma, 0.0)
+
+
+def box_projected_area(size, direction):
+    """A_proj of a box of edge lengths ``size`` = (x, y, z) seen along the unit local
+    ``direction``: y z |d_x| + x z |d_y| + x y |d_z| (a convex body shows half of its
+    faces' projections)."""
+    x, y, z = size
+    return (y * z * dr.abs(direction[0]) + x * z * dr.abs(direction[1])
+            + x * y * dr.abs(direction[2]))
+
+
+def cylinder_projected_area(radius, height, cos_gamma, caps: int = 2):
+    """A_proj of a cylinder along local z (``radius``, ``height``) seen at gamma from its
+    axis: its side 2 r h sin(gamma), plus pi r^2 |cos gamma| when it has a cap on the side
+    seen (``caps`` 2: both ends closed; 1: only the end at -z, which faces down; 0: open)."""
+    side = 2.0 * radius * height * dr.safe_sqrt(1.0 - dr.square(cos_gamma))
+    if caps == 0:
+        return side
+    cap = dr.pi * dr.square(radius) * dr.abs(cos_gamma)
+    if caps == 1:
+        cap = dr.select(cos_gamma < 0.0, cap, 0.0)
+    return side + cap

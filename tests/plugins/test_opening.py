@@ -141,3 +141,75 @@ def test_reference_page(variant_rgb):
     from spectrace.plugins.emitters import opening
 
     assert set(checks.parse_reference_page(opening.__doc__, "opening")) == {"source_sampling"}
+
+
+#: Cauchy's formula: the projected area of a convex body averaged over directions.
+RTOL_CAUCHY = 2e-3
+
+
+def test_projected_areas_follow_cauchy(variant_rgb):
+    """The mean over all directions of a convex body's projected area is a quarter of its
+    surface (Cauchy): a sphere (pi r^2 = 4 pi r^2 / 4), a disk and a rectangle seen from
+    both sides, a box and a closed cylinder (midpoint rule over the sphere)."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import opening
+
+    d, w = checks.sphere_quadrature(400, 200)
+    cos = mi.Float(d[:, 2].astype(np.float32))
+    direction = mi.Vector3f(*(d[:, i].astype(np.float32) for i in range(3)))
+
+    def mean(area):
+        return float(np.sum(np.broadcast_to(np.array(area, dtype=np.float64), w.shape) * w)
+                     / (4 * np.pi))
+
+    r, h, size = 0.3, 1.1, (0.4, 0.7, 1.3)
+
+    def two_sided(area):
+        return area(cos) + area(-cos)
+
+    cases = {
+        "sphere": (mean(opening.sphere_projected_area(mi.Float(r)) + 0 * cos),
+                   4 * np.pi * r**2),
+        "disk": (mean(two_sided(lambda c: opening.disk_projected_area(r, c))), 2 * np.pi * r**2),
+        "rectangle": (mean(two_sided(lambda c: opening.rectangle_projected_area(0.2, 0.5, c))),
+                      2 * 0.4 * 1.0),
+        "box": (mean(opening.box_projected_area(size, direction)),
+                2 * (size[0] * size[1] + size[1] * size[2] + size[0] * size[2])),
+        "cylinder": (mean(opening.cylinder_projected_area(r, h, cos)),
+                     2 * np.pi * r * h + 2 * np.pi * r**2),
+    }
+    for name, (got, surface) in cases.items():
+        assert got == pytest.approx(surface / 4, rel=RTOL_CAUCHY), name
+    one_cap = mean(opening.cylinder_projected_area(r, h, cos, caps=1))
+    assert one_cap == pytest.approx((2 * np.pi * r * h + np.pi * r**2) / 4, rel=RTOL_CAUCHY)
+
+
+def test_rectangle_sample_direction_chi2(variant_rgb):
+    """Points uniform on a rectangle seen from a point: the directions follow the density
+    ``rectangle_pdf_direction`` gives for the point where the direction meets Mitsuba's own
+    ``rectangle`` of the same size (mitsuba.chi2)."""
+    import drjit as dr
+    import mitsuba as mi
+    from mitsuba import chi2
+    from spectrace.plugins.emitters import opening
+
+    T = checks.transform()
+    frame = T.look_at([0.5, 0.6, 0.2], list(REF), [0, 0, 1]).rotate([0, 0, 1], 30)
+    hx, hy = 0.7, 0.3
+    scene = mi.load_dict({"type": "scene", "r": {"type": "rectangle",
+                                                 "to_world": frame.scale([hx, hy, 1])}})
+    to_world = mi.Transform4f(frame)
+
+    def sample(s):
+        p, _, _ = opening.rectangle_sample_direction(to_world, hx, hy, mi.Point3f(*REF), s)
+        return dr.normalize(p - mi.Point3f(*REF))
+
+    def pdf(d):
+        si = scene.ray_intersect(mi.Ray3f(mi.Point3f(*REF), d))
+        value = opening.rectangle_pdf_direction(hx, hy, mi.Point3f(*REF), si.p, si.n)
+        return dr.select(si.is_valid(), value, 0.0)
+
+    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
+                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
+                              ires=64)
+    assert test.run(CHI2_SIGNIFICANCE), test.messages
