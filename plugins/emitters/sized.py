@@ -10,8 +10,9 @@ that a BSDF samples (multiple importance sampling in Mitsuba's ``path``, ``volpa
 
 Design: the user keeps writing one ``<emitter>``. spectrace's scene loader
 (``spectrace.scene.load_scene``: ``spectrace render``, ``lux``, ``sweep``, ...) rewrites
-every top-level ``pointlight``/``spotlight`` whose ``source_radius`` is > 0 (after ``$name``
-substitution) into that shape with the emitter inside (:func:`expand_tree`); Python users of
+every ``pointlight``/``spotlight`` outside a ``<shape>`` whose ``source_radius`` is > 0
+(after ``$name`` substitution; files the scene ``<include>``s are not rewritten) into that
+shape with the emitter inside (:func:`expand_tree`); Python users of
 ``mi.load_dict`` call :func:`expand_dict` on their scene dictionary (Mitsuba 3.9 lets a
 Python plugin neither add objects to a scene nor override ``Object::expand``, the C++ hook
 that expands one element into several). The emitter takes its geometry from its own
