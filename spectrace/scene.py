@@ -70,10 +70,12 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
         raise UserError(f"scene {path}: the root element is <{tree.tag}>, expected <scene>")
     params = {k: str(v) for k, v in (params or {}).items()}
     from spectrace import registry
-    from spectrace.plugins.emitters import sized
 
-    if sized.expand_tree(tree, {**scene_defaults(tree), **params}):  # lights with a size
-        root = tree
+    if any(element.get("name") == "source_radius" for element in tree.iter()):
+        from spectrace.plugins.emitters import sized  # lights with a size: onto their shapes
+
+        if sized.expand_tree(tree, {**scene_defaults(tree), **params}):
+            root = tree
 
     with defer_sigint():  # plugin modules execute Mitsuba calls: no Ctrl-C inside them
         registry.require(plugin_names(tree, params))  # what a lazily set variant lacks
