@@ -176,9 +176,11 @@ def angle_quadrature(penumbra: float, umbra: float, order: int = 48):
     return np.concatenate(alphas), np.concatenate(weights)
 
 
-def test_sample_ray_chi2(variant_rgb):
+@pytest.mark.parametrize("source_radius", [0.0, 0.2])
+def test_sample_ray_chi2(variant_rgb, source_radius):
     """``sample_ray`` draws directions uniformly in the umbra cone around the light's
-    world +Z axis (mitsuba.chi2 against the closed-form uniform-cone density)."""
+    world +Z axis (mitsuba.chi2 against the closed-form uniform-cone density), from the
+    point or from points of the disk of ``source_radius``."""
     import drjit as dr
     import mitsuba as mi
     from mitsuba import chi2
@@ -187,12 +189,15 @@ def test_sample_ray_chi2(variant_rgb):
     T = checks.transform()
     to_world = T.look_at([0, 0, 0], [0.3, -1.0, 0.4], [0, 0, 1])
     light = mi.load_dict({"type": "spotlight", "to_world": to_world, "umbra_angle": umbra,
-                          "penumbra_angle": 10.0})
+                          "penumbra_angle": 10.0, "source_radius": source_radius})
     axis = np.array([0.3, -1.0, 0.4]) / np.linalg.norm([0.3, -1.0, 0.4])
     cos_u = np.cos(np.radians(umbra))
 
     def sample(s):
-        ray, _ = light.sample_ray(0.0, 0.5, s, mi.Point2f(0.5))
+        if source_radius == 0:
+            ray, _ = light.sample_ray(0.0, 0.5, s, mi.Point2f(0.5))
+        else:  # the direction comes from sample3, the point of the disk from sample2
+            ray, _ = light.sample_ray(0.0, 0.5, mi.Point2f(0.3, 0.8), s)
         return ray.d
 
     def pdf(v):
