@@ -131,8 +131,8 @@ class PointLight(delta.DeltaLight):
             self.sampling = params.read_choice(props, PLUGIN, "source_sampling",
                                                opening.DEFAULT_SAMPLING,
                                                opening.SPHERE_SAMPLING_METHODS)
-            self.m_flags = mi.EmitterFlags.Empty  # see sized: the scene drops unattached
-            # Surface emitters
+            # Not Surface: Mitsuba's scene drops top-level Surface emitters (see sized).
+            self.m_flags = mi.EmitterFlags.Empty
         else:
             self.m_flags = mi.EmitterFlags.DeltaPosition
             self.m_needs_sample_3 = False

@@ -20,7 +20,10 @@ parameters (``position`` or ``to_world``, ``source_radius``); the shape is where
 it. A sized light that is not attached to a shape (``mi.load_file`` of the XML without
 spectrace's loader) still casts its soft shadows through next-event estimation, marking its
 samples as delta (``ds.delta``) so that integrators give them the full weight, but camera
-and BSDF rays do not see it.
+and BSDF rays do not see it. Its flags are empty, neither ``DeltaPosition`` nor
+``Surface``: Mitsuba 3.9's scene keeps a top-level emitter only when it is not flagged
+``Surface`` (``src/render/scene.cpp``), and a shape registers its emitter whatever the
+flags.
 
 Parameters
 ----------

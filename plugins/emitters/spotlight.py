@@ -268,7 +268,8 @@ class SpotLight(delta.DeltaLight):
                     f"with source_radius > 0 (got {penumbra:g}: the disk's radiance I / (pi "
                     "r^2 cos gamma) would be unbounded at grazing angles)"
                 )
-            flags = mi.EmitterFlags.Empty  # see sized: not Surface
+            # Not Surface: Mitsuba's scene drops top-level Surface emitters (see sized).
+            flags = mi.EmitterFlags.Empty
         if self.texture is not None:
             flags = flags | mi.EmitterFlags.SpatiallyVarying
         self.m_flags = flags
