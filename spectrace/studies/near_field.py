@@ -2,10 +2,11 @@
 
 Three questions about the lights with ``source_radius`` (see ``spectrace help sized``):
 
-* how wrong the point approximation E = I cos(theta) / d^2 is near a luminous disk and a
-  sphere, against the distance in units of the luminous dimension D (the diameter), and
+* how wrong the point approximation E = I cos(theta) / d^2 is near a luminous disk, a
+  rectangle (a linear luminaire) and a sphere, against the distance in units of the luminous dimension D (the diameter), and
   where it falls under 1 % compared with the photometric rule of thumb "five times the
-  largest dimension" (:func:`point_error_closed_form`, closed forms, and
+  largest dimension" (:func:`point_error_closed_form` and :func:`point_error_rectangle`,
+  closed forms, and
   :func:`point_error_measured`, the same measured on the lights' own next-event samples);
 * the umbra and penumbra of a straight edge on the floor for source radii 0, 5 cm and
   20 cm (:func:`edge_profile`, an orthographic camera between the occluder and the floor,
@@ -17,7 +18,10 @@ Closed forms: a Lambertian disk of radiance L and radius r on its axis at height
 E = pi L r^2 / (r^2 + h^2), its point version (I = pi r^2 L) E = pi L r^2 / h^2: the
 relative error is (r / h)^2, 1 % at h = 10 r = 5 D. The spot disk of ``spotlight`` with the
 quadratic cone, umbra 90 degrees (I = I0 cos^2) gives E = 2 I0 (1 - cos^3 theta_m) /
-(3 r^2). A Lambertian sphere wholly above the plane's horizon gives exactly
+(3 r^2). Under the centre of a Lambertian rectangle (length D, a linear luminaire when
+long and narrow) the four quarters' configuration factors give E (Howell's catalogue,
+"differential planar element to parallel rectangle"). A Lambertian sphere wholly above
+the plane's horizon gives exactly
 I cos(theta) / d^2 (Howell's catalogue, "differential planar element to sphere"): no
 near-field error at all, whatever the distance.
 """
@@ -31,8 +35,8 @@ import numpy as np
 from spectrace.studies import budget, display, text_table
 
 __all__ = ["EdgeProfile", "budget", "display", "edge_profile", "penumbra_width",
-           "point_error_closed_form", "point_error_measured", "shadow_noise", "text_table",
-           "under_one_percent"]
+           "point_error_closed_form", "point_error_measured", "point_error_rectangle",
+           "rectangle_corner_factor", "shadow_noise", "text_table", "under_one_percent"]
 
 #: The relative error of the point approximation the study looks for.
 ONE_PERCENT = 0.01
@@ -60,16 +64,45 @@ def point_error_closed_form(kind: str, distance_over_size) -> np.ndarray:
     raise ValueError(f"point_error_closed_form: unknown kind {kind!r}")
 
 
-def under_one_percent(kind: str) -> float:
+def rectangle_corner_factor(X, Y) -> np.ndarray:
+    """Configuration factor from a plane element to a parallel rectangle of sides X h and
+    Y h whose corner lies straight above it at the height h (Howell's catalogue,
+    "differential planar element to parallel rectangle")."""
+    X, Y = np.asarray(X, np.float64), np.asarray(Y, np.float64)
+    a, b = np.sqrt(1 + X**2), np.sqrt(1 + Y**2)
+    return (X / a * np.arctan(Y / a) + Y / b * np.arctan(X / b)) / (2 * np.pi)
+
+
+def point_error_rectangle(distance_over_length, aspect: float) -> np.ndarray:
+    """Relative error of the point approximation under the centre of a Lambertian
+    rectangle of length D and width D / ``aspect`` (a linear luminaire for a large
+    aspect), at the distances ``distance_over_length`` (d / D): the exact E = pi L 4 F of
+    the four quarter rectangles (:func:`rectangle_corner_factor`) against the point's
+    L A / d^2."""
+    h = np.asarray(distance_over_length, dtype=np.float64)  # in units of D
+    half_length, half_width = 0.5, 0.5 / aspect
+    exact = np.pi * 4 * rectangle_corner_factor(half_length / h, half_width / h)
+    point = (1.0 / aspect) / h**2
+    return point / exact - 1.0
+
+
+def under_one_percent(kind: str, **parameters) -> float:
     """The distance d / D beyond which the point approximation errs by less than 1 %
-    (bisection on :func:`point_error_closed_form`; 0.5 for the sphere: any distance
+    (bisection on :func:`point_error_closed_form`, or :func:`point_error_rectangle` for
+    ``lambertian_rectangle`` with its ``aspect``; 0.5 for the sphere: any distance
     outside it)."""
     if kind == "sphere":
         return 0.5
+
+    def error(x):
+        if kind == "lambertian_rectangle":
+            return point_error_rectangle(x, **parameters)
+        return point_error_closed_form(kind, x)
+
     low, high = 0.5, 100.0
     for _ in range(60):
         mid = 0.5 * (low + high)
-        if abs(point_error_closed_form(kind, mid)) > ONE_PERCENT:
+        if abs(error(mid)) > ONE_PERCENT:
             low = mid
         else:
             high = mid

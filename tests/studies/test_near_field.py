@@ -52,3 +52,18 @@ def test_shadow_noise_falls_as_one_over_sqrt_n(variant_rgb):
     """The RMS error of a penumbra in ``local`` falls as 1 / sqrt(shadow_samples)."""
     noise = study.shadow_noise(counts=(1, 16), res=24)
     assert noise[16] / noise[1] == pytest.approx(0.25, rel=0.3)
+
+
+def test_rectangle_corner_factor_against_quadrature():
+    """Howell's corner factor equals the integral of cos^2 / (pi t^2) over the rectangle
+    (midpoint rule), and the point error under a square at five sides is 1.3 %, under a
+    long linear luminaire (aspect 10) 0.7 %."""
+    X, Y, n = 0.7, 1.9, 800
+    x = (np.arange(n) + 0.5) / n * X
+    y = (np.arange(n) + 0.5) / n * Y
+    xx, yy = np.meshgrid(x, y)
+    quadrature = np.sum(1.0 / (np.pi * (1 + xx**2 + yy**2) ** 2)) * (X / n) * (Y / n)
+    assert study.rectangle_corner_factor(X, Y) == pytest.approx(quadrature, rel=1e-5)
+    assert study.point_error_rectangle(5.0, 1.0) == pytest.approx(0.0133, abs=1e-4)
+    assert study.point_error_rectangle(5.0, 10.0) == pytest.approx(0.0067, abs=1e-4)
+    assert study.under_one_percent("lambertian_rectangle", aspect=10.0) < 5.0
