@@ -3,7 +3,8 @@
 Three questions about the lights with ``source_radius`` (see ``spectrace help sized``):
 
 * how wrong the point approximation E = I cos(theta) / d^2 is near a luminous disk, a
-  rectangle (a linear luminaire) and a sphere, against the distance in units of the luminous dimension D (the diameter), and
+  rectangle (a linear luminaire) and a sphere, against the distance in units of the
+  luminous dimension D (the diameter, the rectangle's length), and
   where it falls under 1 % compared with the photometric rule of thumb "five times the
   largest dimension" (:func:`point_error_closed_form` and :func:`point_error_rectangle`,
   closed forms, and
