@@ -305,7 +305,7 @@ def test_ptracer_equals_path(variant_rgb, kind):
 
 
 @pytest.mark.parametrize("kind", ["sphere", "disk"])
-@pytest.mark.parametrize("integrator", ["path", "volpath", "direct", "local"])
+@pytest.mark.parametrize("integrator", ["path", "volpath", "direct", "prb", "local"])
 def test_attached_equals_next_event_only(variant_rgb, integrator, kind):
     """The light carried by its shape (hit by BSDF rays, MIS weights from pdf_direction)
     lights the plane as the same light without a shape (next-event estimation only)."""
