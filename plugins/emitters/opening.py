@@ -14,8 +14,9 @@ normal to omega, so that far away the surface lights like the point light of int
 This module samples points of these surfaces for a shaded point (``sample_direction``) and
 gives the densities in solid angle that go with them (``pdf_direction``), for the
 integrators' next-event estimation and multiple importance sampling; it also has the
-rectangle (sampling by area) and the projected areas of the rectangle, box and cylinder
-that the luminous openings of IES LM-63 files need. Executed before the
+rectangle (sampled by area, or uniformly in the solid angle it subtends, the spherical
+rectangle of Urena et al.) and the projected areas of the rectangle, box and cylinder that
+the luminous openings of IES LM-63 files need. Executed before the
 lights (see ``spectrace.plugins.PLUGIN_MODULES``).
 
 Parameters
@@ -55,7 +56,9 @@ Sources
 Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed., sec. 6.2.4 (sampling a
 sphere by the cone it subtends) and A.5 (area sampling, the area-to-solid-angle Jacobian
 t^2 / cos theta_l); Shirley, Chiu (1997), "A low distortion map between disk and square",
-*Journal of Graphics Tools* 2(3) (``mi.warp.square_to_uniform_disk_concentric``).
+*Journal of Graphics Tools* 2(3) (``mi.warp.square_to_uniform_disk_concentric``); Urena,
+Fajardo, King (2013), "An area-preserving parametrization for spherical rectangles",
+*Computer Graphics Forum* 32(4) (rectangles by solid angle).
 
 Example
 -------
@@ -207,6 +210,65 @@ def rectangle_sample_direction(to_world, half_x, half_y, ref_p, sample):
 def rectangle_pdf_direction(half_x, half_y, ref_p, p, n):
     """The density in solid angle of :func:`rectangle_sample_direction` at ``p``."""
     return _solid_angle_from_area(ref_p, p, n, 4.0 * half_x * half_y)
+
+
+#: Smallest solid angle (sr) that the spherical-rectangle sampler handles; smaller (a far
+#: rectangle, or one seen edge-on) is sampled by area.
+MIN_SPHERICAL_RECTANGLE = 1e-5
+
+
+def _angle_between(a, b):
+    """The angle between unit vectors, accurate near 0 and pi."""
+    return dr.select(dr.dot(a, b) < 0.0, dr.pi - 2.0 * dr.safe_asin(0.5 * dr.norm(a + b)),
+                     2.0 * dr.safe_asin(0.5 * dr.norm(b - a)))
+
+
+def rectangle_solid_angle_sample(to_world, half_x, half_y, ref_p, sample):
+    """``(p, n, pdf)``: a point of the rectangle uniform in the solid angle it subtends at
+    ``ref_p`` (Urena, Fajardo, King 2013, "An area-preserving parametrization for
+    spherical rectangles"), its normal and the density 1 / Omega (0 behind the rectangle;
+    by area where Omega < :data:`MIN_SPHERICAL_RECTANGLE`)."""
+    corner = mi.Point3f(to_world @ mi.Point3f(-half_x, -half_y, 0.0))
+    ex = mi.Vector3f(to_world @ mi.Vector3f(2.0 * half_x, 0.0, 0.0))
+    ey = mi.Vector3f(to_world @ mi.Vector3f(0.0, 2.0 * half_y, 0.0))
+    n = mi.Normal3f(dr.normalize(to_world @ mi.Normal3f(0.0, 0.0, 1.0)))
+    exl, eyl = dr.norm(ex), dr.norm(ey)
+    x_axis, y_axis = ex / exl, ey / eyl
+    z_axis = dr.cross(x_axis, y_axis)
+    d = mi.Vector3f(corner - ref_p)
+    z0 = dr.dot(d, z_axis)
+    z_axis = dr.select(z0 > 0.0, -z_axis, z_axis)  # the local frame has the rectangle at z < 0
+    z0 = -dr.abs(z0)
+    x0, y0 = dr.dot(d, x_axis), dr.dot(d, y_axis)
+    x1, y1 = x0 + exl, y0 + eyl
+    v00, v01 = mi.Vector3f(x0, y0, z0), mi.Vector3f(x0, y1, z0)
+    v10, v11 = mi.Vector3f(x1, y0, z0), mi.Vector3f(x1, y1, z0)
+    n0 = dr.normalize(dr.cross(v00, v10))
+    n1 = dr.normalize(dr.cross(v10, v11))
+    n2 = dr.normalize(dr.cross(v11, v01))
+    n3 = dr.normalize(dr.cross(v01, v00))
+    g0, g1 = _angle_between(-n0, n1), _angle_between(-n1, n2)
+    g2, g3 = _angle_between(-n2, n3), _angle_between(-n3, n0)
+    omega = g0 + g1 + g2 + g3 - dr.two_pi
+    # u along x: the spherical area up to x_u is sample.x * omega.
+    au = sample.x * omega - (g2 + g3)
+    b0, b1 = n0.z, n2.z
+    fu = (dr.cos(au) * b0 - b1) / dr.sin(au)
+    cu = dr.clip(dr.mulsign(dr.rsqrt(dr.square(fu) + dr.square(b0)), fu), -1.0, 1.0)
+    xu = dr.clip(-(cu * z0) * dr.rcp(dr.safe_sqrt(1.0 - dr.square(cu))), x0, x1)
+    dist = dr.sqrt(dr.square(xu) + dr.square(z0))
+    h0 = y0 * dr.rsqrt(dr.square(dist) + dr.square(y0))
+    h1 = y1 * dr.rsqrt(dr.square(dist) + dr.square(y1))
+    hv = h0 + sample.y * (h1 - h0)
+    yv = dr.select(dr.square(hv) < 1.0 - 1e-6, hv * dist * dr.rsqrt(1.0 - dr.square(hv)), y1)
+    p = mi.Point3f(ref_p + xu * x_axis + yv * y_axis + z0 * z_axis)
+    front = dr.dot(n, ref_p - corner) > 0.0
+    small = omega < MIN_SPHERICAL_RECTANGLE
+    p_area, _ = rectangle_point(to_world, half_x, half_y, sample)
+    p = dr.select(small, p_area, p)
+    pdf = dr.select(small, rectangle_pdf_direction(half_x, half_y, ref_p, p, n),
+                    dr.rcp(omega))
+    return p, n, dr.select(front, pdf, 0.0)
 
 
 def rectangle_projected_area(half_x, half_y, cos_gamma):
