@@ -281,7 +281,7 @@ def test_rectangle_solid_angle_sampling_chi2(variant_rgb, origin):
     _, _, area_pdf = opening.rectangle_sample_direction(to_world, hx, hy, ref,
                                                         mi.Point2f(u[0], u[1]))
     assert np.mean(1.0 / np.array(area_pdf)) == pytest.approx(omega, rel=RTOL_SOLID_ANGLE)
-    behind = mi.Point3f(*(2 * np.array(origin) - np.array(REF)))
+    behind = mi.Point3f(*(float(c) for c in 2 * np.array(origin) - np.array(REF)))
     _, _, pdf_behind = opening.rectangle_solid_angle_sample(to_world, hx, hy, behind,
                                                             mi.Point2f(0.5))
     assert float(np.array(pdf_behind).ravel()[0]) == 0.0
