@@ -14,10 +14,10 @@ lumens: a constant scale computed at load, so the same kernels), and both lights
 The second table: the lights with a size (``source_radius`` 10 cm, carried by their sphere
 and disk shapes as ``spectrace render`` loads them) against the same lights as points, at
 equal spp with ``path``, ``direct`` and ``local`` (aim: ratio <= 1.3). The third: noise at
-equal time near a sphere light (a floor 0.1 to 0.3 m below a sphere of radius 0.2, so
-closer than 2 radii to its centre), ``source_sampling`` ``solid_angle`` against ``area``
-(``direct``, the RMS error against a 1024-spp reference times sqrt(time), relative to
-solid angle).
+equal time near a sphere and a disk light of radius 0.2 (a floor 0.1 m below the sphere,
+so closer than 2 radii to its centre, and 0.1 m below the disk), each ``source_sampling``
+(``direct``; the relative RMS error against a 1024-spp reference times sqrt(time),
+relative to the default method).
 
 Run: ``.venv/bin/python benchmarks/bench_emitters.py [--res 256] [--spp 16] [--repeats 5]
 [--part all|builtin|sized]``
@@ -139,44 +139,47 @@ def sized_times(args) -> list[tuple]:
 
 
 def near_field_noise(args) -> list[tuple]:
-    """RMS error times sqrt(time) of the two sphere sampling methods near the sphere."""
+    """RMS error times sqrt(time) of the sampling methods near a sphere and a disk."""
     import mitsuba as mi
     import numpy as np
     from spectrace.plugins.emitters import sized
 
+    spectrace.set_variant("llvm_ad_rgb")
     T = mi.ScalarTransform4f()
     rows = []
-    spectrace.set_variant("llvm_ad_rgb")
+    lights = {
+        "sphere": ({"type": "pointlight", "position": [0, 0.3, 0]},
+                   ("solid_angle", "area")),
+        "disk": ({"type": "spotlight", "to_world": T.look_at([0, 0.1, 0], [0, 0, 0], [0, 0, 1]),
+                  "umbra_angle": 89.0, "penumbra_angle": 80.0}, ("auto", "solid_angle", "area")),
+    }
 
-    def scene(method: str, spp: int):
+    def scene(light, method: str, spp: int):
         return mi.load_dict(sized.expand_dict({
             "type": "scene", "integrator": {"type": "direct", "bsdf_samples": 0},
-            "sensor": {"type": "orthographic",
-                       "to_world": T.look_at([0, 0.5, 0], [0, 0, 0], [0, 0, 1]).scale(
+            "sensor": {"type": "orthographic",  # between the floor and the light
+                       "to_world": T.look_at([0, 0.02, 0], [0, 0, 0], [0, 0, 1]).scale(
                            [0.6, 0.6, 1]),
                        "film": {"type": "hdrfilm", "width": args.res, "height": args.res},
                        "sampler": {"type": "independent", "sample_count": spp}},
             "floor": {"type": "rectangle", "to_world": T.rotate([1, 0, 0], -90).scale(2)},
-            "light": {"type": "pointlight", "position": [0, 0.3, 0], "source_radius": 0.2,
-                      "source_sampling": method},
+            "light": {**light, "source_radius": 0.2, "source_sampling": method},
         }))
 
-    reference = np.array(mi.render(scene("solid_angle", 1024), seed=99))
-    results = {}
-    for method in ("solid_angle", "area"):
-        s = scene(method, args.spp)
-        timed_render(s, spp=args.spp, seed=0)
-        seconds = statistics.median(timed_render(s, spp=args.spp, seed=r + 1)
-                                    for r in range(args.repeats))
-        image = np.array(mi.render(s, spp=args.spp, seed=7))
-        # The floor only (the sphere, seen from above, hides its centre).
-        p = (np.arange(args.res) + 0.5) / args.res * 1.2 - 0.6
-        floor = np.hypot(*np.meshgrid(p, p)) > 0.25
-        error = float(np.sqrt(np.mean((image - reference)[floor] ** 2)))
-        results[method] = (seconds, error, error * np.sqrt(seconds))
-    base = results["solid_angle"][2]
-    for method, (seconds, error, at_equal_time) in results.items():
-        rows.append((method, seconds, error, at_equal_time / base))
+    for kind, (light, methods) in lights.items():
+        reference = np.array(mi.render(scene(light, "area", 1024), seed=99))
+        results = {}
+        for method in methods:
+            s = scene(light, method, args.spp)
+            timed_render(s, spp=args.spp, seed=0)
+            seconds = statistics.median(timed_render(s, spp=args.spp, seed=r + 1)
+                                        for r in range(args.repeats))
+            image = np.array(mi.render(s, spp=args.spp, seed=7))
+            error = float(np.sqrt(np.mean((image - reference) ** 2)) / reference.mean())
+            results[method] = (seconds, error, error * np.sqrt(seconds))
+        base = results[methods[0]][2]
+        for method, (seconds, error, at_equal_time) in results.items():
+            rows.append((kind, method, seconds, error, at_equal_time / base))
     return rows
 
 
@@ -192,11 +195,12 @@ def main() -> int:
         print_table([("variant", "<18", ""), ("integrator", "<10", ""),
                      ("point (s)", ">9", ".3f"), ("sized (s)", ">9", ".3f"),
                      ("ratio", ">7", ".3f")], sized_times(args))
-        print(f"\nnear a sphere (floor within 2 radii), direct, {args.spp} spp: noise at "
-              "equal time = RMS error * sqrt(time), relative to solid_angle")
-        print_table([("source_sampling", "<16", ""), ("time (s)", ">9", ".3f"),
-                     ("RMS error", ">10", ".4f"), ("at equal time", ">14", ".2f")],
-                    near_field_noise(args))
+        print(f"\nnear a light of radius 0.2 (floor 0.1 below the sphere, 0.1 below the "
+              f"disk), direct, {args.spp} spp: noise at equal time = relative RMS error * "
+              "sqrt(time), relative to the default method")
+        print_table([("light", "<7", ""), ("source_sampling", "<16", ""),
+                     ("time (s)", ">9", ".3f"), ("RMS error", ">10", ".4f"),
+                     ("at equal time", ">14", ".2f")], near_field_noise(args))
     return 0
 
 

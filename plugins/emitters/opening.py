@@ -25,11 +25,17 @@ Parameters
 ===================  ======  ===========  ====  ===============================================
 parameter            type    default      unit  description
 ===================  ======  ===========  ====  ===============================================
-``source_sampling``  string  solid_angle  --    how a sphere is sampled from a shaded point:
-                                                ``solid_angle`` (uniform in the cone it
-                                                subtends) or ``area`` (uniform over its
-                                                surface, the reference for comparisons); a
-                                                disk is always sampled by area
+``source_sampling``  string  (below)      --    how a sphere or disk is sampled from a
+                                                shaded point: ``solid_angle`` (uniform in
+                                                the cone a sphere subtends; a disk: uniform
+                                                in the solid angle of its circumscribed
+                                                square, samples off the disk discarded),
+                                                ``area`` (uniform over the surface, the
+                                                reference for comparisons) or, for disks,
+                                                ``auto``: solid angle closer than 1.5 radii
+                                                to the centre, area farther. Default:
+                                                ``solid_angle`` for spheres, ``auto`` for
+                                                disks
 ===================  ======  ===========  ====  ===============================================
 
 Formula
@@ -39,6 +45,8 @@ Formula
 
     sphere, solid_angle:  pdf(omega) = 1 / (2 pi (1 - cos theta_max)),  sin theta_max = r / d
     sphere, area:         pdf(omega) = t^2 / (4 pi r^2 |cos theta_l|)
+    disk, solid_angle:    pdf(omega) = 1 / Omega_square     (on the disk; pi/4 of the square)
+    disk, auto:           solid_angle where |x - centre| < 1.5 r, area elsewhere
     disk, area:           pdf(omega) = t^2 / (pi r^2 cos theta_l)
 
 with d the distance from the shaded point to the sphere's centre, t the distance to the
@@ -47,8 +55,11 @@ to the shaded point. ``solid_angle`` draws cos theta uniformly in [cos theta_max
 direction to the centre and finds the point of the sphere seen in that direction from the
 angle alpha at the centre, cos alpha = sin^2 theta / sin theta_max + cos theta sqrt(1 -
 sin^2 theta / sin^2 theta_max), so no ray is intersected; 1 - cos theta_max is computed as
-sin^2 theta_max / (1 + cos theta_max), exact for far spheres too. Shaded points inside a
-sphere or behind a disk see no emission: density 0.
+sin^2 theta_max / (1 + cos theta_max), exact for far spheres too. The disk's square (side
+2 r, the disk's frame) is sampled as a spherical rectangle, whose solid angle Omega_square
+has a closed form (the sum of its four angles less 2 pi); where it falls under
+:data:`MIN_SPHERICAL_RECTANGLE` (far away) the square is sampled by area. Shaded points
+inside a sphere or behind a disk see no emission: density 0.
 
 Sources
 -------
@@ -167,16 +178,77 @@ def disk_point(to_world, radius, sample):
     return mi.Point3f(p), mi.Normal3f(n)
 
 
-def disk_sample_direction(to_world, radius, ref_p, sample):
-    """``(p, n, pdf)``: a point uniform by area on the disk (front side +Z only) and its
-    density in solid angle from ``ref_p`` (0 behind the disk)."""
+def _disk_area(to_world, to_local, radius, ref_p, sample):
     p, n = disk_point(to_world, radius, sample)
-    return p, n, disk_pdf_direction(radius, ref_p, p, n)
+    return p, n, _disk_area_pdf(to_world, to_local, radius, ref_p, p, n)
 
 
-def disk_pdf_direction(radius, ref_p, p, n):
-    """The density in solid angle of :func:`disk_sample_direction` at the point ``p``."""
+def _disk_area_pdf(to_world, to_local, radius, ref_p, p, n):
     return _solid_angle_from_area(ref_p, p, n, dr.pi * dr.square(radius))
+
+
+def _disk_solid_angle(to_world, to_local, radius, ref_p, sample):
+    p, n, pdf = rectangle_solid_angle_sample(to_world, radius, radius, ref_p, sample)
+    local = to_local @ p
+    inside = dr.square(local.x) + dr.square(local.y) <= dr.square(radius)
+    return p, n, dr.select(inside, pdf, 0.0)
+
+
+def _disk_solid_angle_pdf(to_world, to_local, radius, ref_p, p, n):
+    return rectangle_solid_angle_pdf(to_world, radius, radius, ref_p, p)
+
+
+#: ``auto`` samples a disk by solid angle from points closer than this many radii to its
+#: centre and by area farther away, where the discarded samples of the solid-angle method
+#: cost more noise than area sampling's 1 / t^2 (measured: ``benchmarks/bench_emitters.py``).
+NEAR_DISK_RADII = 1.5
+
+
+def _disk_near(to_world, radius, ref_p):
+    return dr.squared_norm(ref_p - to_world.translation()) < dr.square(NEAR_DISK_RADII * radius)
+
+
+def _disk_auto(to_world, to_local, radius, ref_p, sample):
+    near = _disk_near(to_world, radius, ref_p)
+    p_s, n_s, pdf_s = _disk_solid_angle(to_world, to_local, radius, ref_p, sample)
+    p_a, n_a, pdf_a = _disk_area(to_world, to_local, radius, ref_p, sample)
+    return (dr.select(near, p_s, p_a), dr.select(near, n_s, n_a),
+            dr.select(near, pdf_s, pdf_a))
+
+
+def _disk_auto_pdf(to_world, to_local, radius, ref_p, p, n):
+    return dr.select(_disk_near(to_world, radius, ref_p),
+                     _disk_solid_angle_pdf(to_world, to_local, radius, ref_p, p, n),
+                     _disk_area_pdf(to_world, to_local, radius, ref_p, p, n))
+
+
+#: ``source_sampling`` -> ``(sample(to_world, to_local, radius, ref_p, sample) -> (p, n,
+#: pdf), pdf(to_world, to_local, radius, ref_p, p, n) -> pdf)`` for disks. ``solid_angle``:
+#: uniform in the solid angle of the disk's circumscribed square (the spherical
+#: rectangle), the samples outside the disk discarded (density 0, about 21 %), so the
+#: density on the disk is 1 / Omega_square; ``area``: uniform over the disk; ``auto``:
+#: ``solid_angle`` within :data:`NEAR_DISK_RADII` of the centre, ``area`` beyond.
+DISK_SAMPLING_METHODS = {
+    "auto": (_disk_auto, _disk_auto_pdf),
+    "solid_angle": (_disk_solid_angle, _disk_solid_angle_pdf),
+    "area": (_disk_area, _disk_area_pdf),
+}
+DEFAULT_DISK_SAMPLING = "auto"
+
+
+def disk_sample_direction(to_world, to_local, radius, ref_p, sample,
+                          method: str = DEFAULT_DISK_SAMPLING):
+    """``(p, n, pdf)``: a point of the disk (front side +Z only) by ``method`` of
+    :data:`DISK_SAMPLING_METHODS` and its density in solid angle from ``ref_p`` (0 behind
+    the disk or when discarded)."""
+    return DISK_SAMPLING_METHODS[method][0](to_world, to_local, radius, ref_p, sample)
+
+
+def disk_pdf_direction(to_world, to_local, radius, ref_p, p, n,
+                       method: str = DEFAULT_DISK_SAMPLING):
+    """The density in solid angle of :func:`disk_sample_direction` at the point ``p``."""
+    pdf = DISK_SAMPLING_METHODS[method][1](to_world, to_local, radius, ref_p, p, n)
+    return dr.select(dr.dot(n, ref_p - p) > 0.0, pdf, 0.0)
 
 
 def sphere_projected_area(radius):
@@ -223,11 +295,10 @@ def _angle_between(a, b):
                      2.0 * dr.safe_asin(0.5 * dr.norm(b - a)))
 
 
-def rectangle_solid_angle_sample(to_world, half_x, half_y, ref_p, sample):
-    """``(p, n, pdf)``: a point of the rectangle uniform in the solid angle it subtends at
-    ``ref_p`` (Urena, Fajardo, King 2013, "An area-preserving parametrization for
-    spherical rectangles"), its normal and the density 1 / Omega (0 behind the rectangle;
-    by area where Omega < :data:`MIN_SPHERICAL_RECTANGLE`)."""
+def _spherical_rectangle(to_world, half_x, half_y, ref_p):
+    """The spherical rectangle seen from ``ref_p``: its local frame and corner
+    coordinates, the normals of its great-circle edges, its solid angle Omega and whether
+    ``ref_p`` is in front of the rectangle."""
     corner = mi.Point3f(to_world @ mi.Point3f(-half_x, -half_y, 0.0))
     ex = mi.Vector3f(to_world @ mi.Vector3f(2.0 * half_x, 0.0, 0.0))
     ey = mi.Vector3f(to_world @ mi.Vector3f(0.0, 2.0 * half_y, 0.0))
@@ -250,9 +321,19 @@ def rectangle_solid_angle_sample(to_world, half_x, half_y, ref_p, sample):
     g0, g1 = _angle_between(-n0, n1), _angle_between(-n1, n2)
     g2, g3 = _angle_between(-n2, n3), _angle_between(-n3, n0)
     omega = g0 + g1 + g2 + g3 - dr.two_pi
-    # u along x: the spherical area up to x_u is sample.x * omega.
-    au = sample.x * omega - (g2 + g3)
-    b0, b1 = n0.z, n2.z
+    front = dr.dot(n, ref_p - corner) > 0.0
+    frame = (x_axis, y_axis, z_axis, x0, x1, y0, y1, z0, n0.z, n2.z, g2 + g3)
+    return frame, n, omega, front
+
+
+def rectangle_solid_angle_sample(to_world, half_x, half_y, ref_p, sample):
+    """``(p, n, pdf)``: a point of the rectangle uniform in the solid angle it subtends at
+    ``ref_p`` (Urena, Fajardo, King 2013, "An area-preserving parametrization for
+    spherical rectangles"), its normal and the density 1 / Omega (0 behind the rectangle;
+    by area where Omega < :data:`MIN_SPHERICAL_RECTANGLE`)."""
+    frame, n, omega, front = _spherical_rectangle(to_world, half_x, half_y, ref_p)
+    x_axis, y_axis, z_axis, x0, x1, y0, y1, z0, b0, b1, g23 = frame
+    au = sample.x * omega - g23  # the spherical area up to x_u is sample.x * omega
     fu = (dr.cos(au) * b0 - b1) / dr.sin(au)
     cu = dr.clip(dr.mulsign(dr.rsqrt(dr.square(fu) + dr.square(b0)), fu), -1.0, 1.0)
     xu = dr.clip(-(cu * z0) * dr.rcp(dr.safe_sqrt(1.0 - dr.square(cu))), x0, x1)
@@ -262,13 +343,21 @@ def rectangle_solid_angle_sample(to_world, half_x, half_y, ref_p, sample):
     hv = h0 + sample.y * (h1 - h0)
     yv = dr.select(dr.square(hv) < 1.0 - 1e-6, hv * dist * dr.rsqrt(1.0 - dr.square(hv)), y1)
     p = mi.Point3f(ref_p + xu * x_axis + yv * y_axis + z0 * z_axis)
-    front = dr.dot(n, ref_p - corner) > 0.0
     small = omega < MIN_SPHERICAL_RECTANGLE
     p_area, _ = rectangle_point(to_world, half_x, half_y, sample)
     p = dr.select(small, p_area, p)
     pdf = dr.select(small, rectangle_pdf_direction(half_x, half_y, ref_p, p, n),
                     dr.rcp(omega))
     return p, n, dr.select(front, pdf, 0.0)
+
+
+def rectangle_solid_angle_pdf(to_world, half_x, half_y, ref_p, p):
+    """The density in solid angle of :func:`rectangle_solid_angle_sample` at the point
+    ``p`` of the rectangle."""
+    _, n, omega, front = _spherical_rectangle(to_world, half_x, half_y, ref_p)
+    pdf = dr.select(omega < MIN_SPHERICAL_RECTANGLE,
+                    rectangle_pdf_direction(half_x, half_y, ref_p, p, n), dr.rcp(omega))
+    return dr.select(front, pdf, 0.0)
 
 
 def rectangle_projected_area(half_x, half_y, cos_gamma):

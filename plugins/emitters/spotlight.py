@@ -63,6 +63,11 @@ parameter               type       default         unit     description
                                                             point spot (``spectrace help
                                                             sized``); needs penumbra_angle < 90;
                                                             >= 0
+``source_sampling``     string     auto            --       how the disk is sampled: ``auto``
+                                                            (by solid angle near it, by area
+                                                            farther), ``solid_angle`` or
+                                                            ``area`` (``spectrace help
+                                                            opening``)
 ``sampling_weight``     float      1               --       relative chance that an integrator
                                                             picks this light to sample
                                                             (Mitsuba's emitters) |exposed|
@@ -262,6 +267,9 @@ class SpotLight(delta.DeltaLight):
         flags = mi.EmitterFlags.DeltaPosition
         if self.source_radius > 0:
             sized.check_sized(PLUGIN, self.law, props.get("to_world", None))
+            self.sampling = params.read_choice(props, PLUGIN, "source_sampling",
+                                               opening.DEFAULT_DISK_SAMPLING,
+                                               opening.DISK_SAMPLING_METHODS)
             if not penumbra < MAX_SIZED_PENUMBRA:
                 raise ValueError(
                     f"{PLUGIN}: parameter 'penumbra_angle' must be < {MAX_SIZED_PENUMBRA:g} "
@@ -370,13 +378,12 @@ class SpotLight(delta.DeltaLight):
 
     def sample_direction(self, it, sample, active=True):
         if self.source_radius > 0:
-            p, n, pdf = opening.disk_sample_direction(self.to_world, self.source_radius,
-                                                      it.p, sample)
+            p, n, pdf = opening.disk_sample_direction(
+                self.to_world, self.to_local, self.source_radius, it.p, sample, self.sampling)
             ds = sized.direction_sample(self, it, p, n, pdf)
             lit = active & (pdf > 0.0)
-            # L / pdf = I / (A cos gamma) * A cos gamma / t^2 = I / t^2
-            value = self._emitted(self.to_local @ (-ds.d), it.wavelengths, it.time, lit)
-            return ds, self._out(dr.select(lit, value * dr.rcp(dr.square(ds.dist)), 0.0))
+            value = self._radiance(self.to_local @ (-ds.d), it.wavelengths, it.time, lit)
+            return ds, dr.select(lit, value * dr.rcp(pdf), 0.0)
         ds, dist2 = self._direction_sample(it)
         local_d = self.to_local @ (-ds.d)
         value = self._emitted(local_d, it.wavelengths, it.time, active) * self.law(dist2)
@@ -406,7 +413,8 @@ class SpotLight(delta.DeltaLight):
 
     def pdf_direction(self, it, ds, active=True):
         if self.source_radius > 0:
-            pdf = opening.disk_pdf_direction(self.source_radius, it.p, ds.p, ds.n)
+            pdf = opening.disk_pdf_direction(self.to_world, self.to_local, self.source_radius,
+                                             it.p, ds.p, ds.n, self.sampling)
             return dr.select(active, pdf, 0.0)
         return super().pdf_direction(it, ds, active)
 

@@ -47,6 +47,9 @@ def lights():
         "disk": {"type": "spotlight", "source_radius": 0.6, "umbra_angle": 80,
                  "penumbra_angle": 60,
                  "to_world": T.look_at([0.5, 0.7, 0.2], list(REF), [0, 0, 1])},
+        "disk_near": {"type": "spotlight", "source_radius": 0.6, "umbra_angle": 80,
+                      "penumbra_angle": 60,
+                      "to_world": T.look_at([0.3, 0.2, 0.2], list(REF), [0, 0, 1])},
         "disk_oblique": {"type": "spotlight", "source_radius": 0.6, "umbra_angle": 85,
                          "penumbra_angle": 60,
                          "to_world": T.look_at([0.5, 0.4, 0.2], [1.094, -0.404, 0.247],
@@ -54,17 +57,37 @@ def lights():
     }
 
 
-@pytest.mark.parametrize("name", ["sphere_far", "sphere_near", "disk", "disk_oblique"])
-def test_sample_direction_chi2(variant_rgb, name):
+SAMPLED = [("sphere_far", "solid_angle"), ("sphere_near", "solid_angle"),
+           ("disk", "solid_angle"), ("disk_oblique", "solid_angle"), ("disk", "area"),
+           ("disk_oblique", "area"), ("disk_near", "auto"), ("disk", "auto")]
+
+
+@pytest.mark.parametrize(("name", "method"), SAMPLED)
+def test_sample_direction_chi2(variant_rgb, name, method):
     """The directions ``sample_direction`` draws from a point follow the density that
     ``pdf_direction`` reports for the hit the integrators build (mitsuba.chi2 on the sphere
     of directions): the sphere's cone sampling seen from afar and from close by, the disk's
-    area sampling facing the point and seen obliquely."""
+    methods facing the point and seen obliquely (``auto``: near and far). The disk's
+    ``solid_angle`` samples
+    are uniform over its circumscribed square, those off the disk discarded: their
+    density there is the square's, 1 / Omega_square (``rectangle_solid_angle_pdf``)."""
     import drjit as dr
     import mitsuba as mi
     from mitsuba import chi2
+    from spectrace.plugins.emitters import opening
 
-    scene, emitter = carried(lights()[name])
+    light = lights()[name]
+    if name.startswith("disk"):
+        light["source_sampling"] = method
+    scene, emitter = carried(light)
+    square = None
+    near = name == "disk_near"  # within 1.5 radii: auto samples by solid angle there
+    if name.startswith("disk") and (method == "solid_angle" or (method == "auto" and near)):
+        r = light["source_radius"]
+        square = mi.load_dict({"type": "scene", "square": {
+            "type": "rectangle", "to_world": light["to_world"] @ mi.ScalarTransform4f().scale(
+                [r, r, 1])}})
+        to_world = mi.Transform4f(light["to_world"])
 
     def sample(s):
         it = dr.zeros(mi.Interaction3f, dr.width(s))
@@ -73,7 +96,14 @@ def test_sample_direction_chi2(variant_rgb, name):
         return ds.d
 
     def pdf(d):
-        return direction_pdf(scene, emitter, None, d)
+        value = direction_pdf(scene, emitter, None, d)
+        if square is not None:
+            si = square.ray_intersect(mi.Ray3f(mi.Point3f(*REF), d))
+            off_disk = opening.rectangle_solid_angle_pdf(
+                to_world, light["source_radius"], light["source_radius"], mi.Point3f(*REF),
+                si.p)
+            value = dr.select(si.is_valid() & (value == 0.0), off_disk, value)
+        return value
 
     test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
                               pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
