@@ -15,6 +15,24 @@ RTOL_SOLID_ANGLE = 5e-3
 REF = (0.1, -0.2, 0.3)
 
 
+def assert_chi2(sample, pdf, ires: int = 64) -> None:
+    """mitsuba.chi2 on the sphere of directions: ``sample`` (2D samples -> directions)
+    follows ``pdf`` (directions -> density)."""
+    from mitsuba import chi2
+
+    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
+                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
+                              ires=ires)
+    assert test.run(CHI2_SIGNIFICANCE), test.messages
+
+
+def uniform_sphere_pdf(d):
+    import drjit as dr
+    import mitsuba as mi
+
+    return dr.full(mi.Float, 1.0 / (4.0 * np.pi), dr.width(d))
+
+
 def carried(light: dict):
     """(scene, emitter): ``light`` on its shape (``sized.expand_dict``), alone in a scene."""
     import mitsuba as mi
@@ -73,7 +91,6 @@ def test_sample_direction_chi2(variant_rgb, name, method):
     density there is the square's, 1 / Omega_square (``rectangle_solid_angle_pdf``)."""
     import drjit as dr
     import mitsuba as mi
-    from mitsuba import chi2
     from spectrace.plugins.emitters import opening
 
     light = lights()[name]
@@ -105,10 +122,7 @@ def test_sample_direction_chi2(variant_rgb, name, method):
             value = dr.select(si.is_valid() & (value == 0.0), off_disk, value)
         return value
 
-    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
-                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
-                              ires=64)
-    assert test.run(CHI2_SIGNIFICANCE), test.messages
+    assert_chi2(sample, pdf, ires=64)
 
 
 @pytest.mark.parametrize("method", ["solid_angle", "area"])
@@ -144,7 +158,6 @@ def test_sphere_sample_ray_chi2(variant_rgb):
     mitsuba.chi2 against that density, each ray of weight 4 pi I."""
     import drjit as dr
     import mitsuba as mi
-    from mitsuba import chi2
 
     light = mi.load_dict({"type": "pointlight", "position": [0.2, 0.1, 0.3],
                           "source_radius": 0.3, "intensity": 2.0})
@@ -155,13 +168,7 @@ def test_sphere_sample_ray_chi2(variant_rgb):
         ray, weight = light.sample_ray(0.0, 0.5, mi.Point2f(u[0], u[1]), s)
         return ray.d
 
-    def pdf(d):
-        return dr.full(mi.Float, 1.0 / (4.0 * np.pi), dr.width(d))
-
-    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
-                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
-                              ires=16)
-    assert test.run(CHI2_SIGNIFICANCE), test.messages
+    assert_chi2(sample, uniform_sphere_pdf, ires=16)
     _, weight = light.sample_ray(0.0, 0.5, mi.Point2f(0.3, 0.7), mi.Point2f(0.1, 0.2))
     np.testing.assert_allclose(np.array(weight).ravel(), 4 * np.pi * 2.0, rtol=1e-6)
 
@@ -220,7 +227,6 @@ def test_rectangle_sample_direction_chi2(variant_rgb):
     ``rectangle`` of the same size (mitsuba.chi2)."""
     import drjit as dr
     import mitsuba as mi
-    from mitsuba import chi2
     from spectrace.plugins.emitters import opening
 
     T = checks.transform()
@@ -239,10 +245,7 @@ def test_rectangle_sample_direction_chi2(variant_rgb):
         value = opening.rectangle_pdf_direction(hx, hy, mi.Point3f(*REF), si.p, si.n)
         return dr.select(si.is_valid(), value, 0.0)
 
-    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
-                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
-                              ires=64)
-    assert test.run(CHI2_SIGNIFICANCE), test.messages
+    assert_chi2(sample, pdf, ires=64)
 
 
 def test_sphere_area_sampling_chi2(variant_rgb):
@@ -252,7 +255,6 @@ def test_sphere_area_sampling_chi2(variant_rgb):
     and by Howell's irradiance (test_sized)."""
     import drjit as dr
     import mitsuba as mi
-    from mitsuba import chi2
 
     emitter = mi.load_dict({"type": "pointlight", "position": [0.4, 1.2, 0.3],
                             "source_radius": 0.6, "source_sampling": "area"})
@@ -263,13 +265,7 @@ def test_sphere_area_sampling_chi2(variant_rgb):
         ds, _ = emitter.sample_direction(it, s)
         return mi.Vector3f(ds.n)
 
-    def pdf(n):
-        return dr.full(mi.Float, 1.0 / (4.0 * np.pi), dr.width(n))
-
-    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
-                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
-                              ires=16)
-    assert test.run(CHI2_SIGNIFICANCE), test.messages
+    assert_chi2(sample, uniform_sphere_pdf, ires=16)
 
 
 @pytest.mark.parametrize("origin", [(0.5, 0.6, 0.2), (0.3, 0.0, 0.4)])
@@ -281,7 +277,6 @@ def test_rectangle_solid_angle_sampling_chi2(variant_rgb, origin):
     from behind."""
     import drjit as dr
     import mitsuba as mi
-    from mitsuba import chi2
     from spectrace.plugins.emitters import opening
 
     T = checks.transform()
@@ -302,10 +297,7 @@ def test_rectangle_solid_angle_sampling_chi2(variant_rgb, origin):
         si = scene.ray_intersect(mi.Ray3f(ref, d))
         return dr.select(si.is_valid(), 1.0 / omega, 0.0)
 
-    test = chi2.ChiSquareTest(domain=chi2.SphericalDomain(), sample_func=sample,
-                              pdf_func=pdf, sample_dim=2, sample_count=400_000, res=101,
-                              ires=64)
-    assert test.run(CHI2_SIGNIFICANCE), test.messages
+    assert_chi2(sample, pdf, ires=64)
     rng = np.random.default_rng(3)
     u = rng.random((2, 200_000)).astype(np.float32)
     _, _, area_pdf = opening.rectangle_sample_direction(to_world, hx, hy, ref,
