@@ -98,6 +98,13 @@ does; with a gobo, wavelengths are drawn from the texture's spectral density and
 ``pdf_wavelengths`` reports that density. Changing ``umbra_angle``, ``penumbra_angle`` or
 the luminous value through ``mi.traverse`` recomputes the cached cosines and Omega.
 
+With ``source_radius`` r > 0 the spot is a disk of radius r in its local z = 0 plane,
+facing +Z, of radiance L(omega) = I(omega) / (pi r^2 cos gamma) (gamma = alpha, the angle
+from +Z; 0 behind the disk), so that its intensity far away is I(alpha) above and its flux
+the same. ``penumbra_angle`` must then be < 90 degrees (refused otherwise: full intensity at
+grazing angles needs an unbounded radiance); with ``umbra_angle`` 90 the cone laws vanish
+at the rim and L stays finite.
+
 Sources
 -------
 
