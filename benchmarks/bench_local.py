@@ -16,7 +16,12 @@ render (kernel reused). ``local`` loops over the lights symbolically, so its ker
 compile time stay the same for any number of lights. The Dr.Jit kernel cache is emptied
 for this run (``HOME`` points at a temporary folder), so every compile is counted.
 
+Third table, "shadow samples": ``scenes/soft_shadows.xml`` (a point spot and a disk spot of
+radius 25 cm) rendered by ``local`` with ``shadow_samples`` 1, 4, 16, 64
+(``--shadow-samples``): time and ratio to one shadow sample (only the disk takes N).
+
     .venv/bin/python benchmarks/bench_local.py [--res 256] [--spp 16] [--lights 1,4,16,64]
+        [--shadow-samples 1,4,16,64]
 """
 
 from __future__ import annotations
@@ -178,8 +183,32 @@ def lights_table(args) -> None:
                  ("first [s]", ">9", ".3f"), ("render [s]", ">10", ".3f")], rows)
 
 
+def shadow_samples_table(args) -> None:
+    from spectrace.scene import load_scene
+
+    counts = [int(n) for n in args.shadow_samples.split(",")]
+    rows = []
+    for variant in VARIANTS:
+        spectrace.set_variant(variant)
+        import mitsuba as mi
+
+        scene = load_scene(SCENES / "soft_shadows.xml", {"res": str(args.res)})
+        integrators = {n: mi.load_dict({"type": "local", "shadow_samples": n}) for n in counts}
+        for integrator in integrators.values():  # warm-up
+            timed_render(scene, integrator=integrator, spp=args.spp, seed=0)
+        times = {n: timed_render(scene, integrator=integrator, spp=args.spp, seed=1)
+                 for n, integrator in integrators.items()}
+        rows += [(variant, n, t, t / times[counts[0]]) for n, t in times.items()]
+    print(f"\nlocal on soft_shadows.xml against shadow_samples, {args.res}x{args.res}, "
+          f"{args.spp} spp")
+    print_table([("variant", "<18", ""), ("shadow_samples", ">14", "d"),
+                 ("time [s]", ">9", ".3f"), ("ratio", ">7", ".2f")], rows)
+
+
 def main() -> int:
     parser = render_parser(__doc__)
+    parser.add_argument("--shadow-samples", default="1,4,16,64",
+                        help="shadow_samples of the third table (default 1,4,16,64)")
     parser.add_argument("--lights", default="1,4,16,64",
                         help="numbers of lights of the lights table (default 1,4,16,64)")
     args = parser.parse_args()
@@ -212,6 +241,7 @@ def main() -> int:
     print_table([("variant", "<18", ""), ("scene", "<13", ""), ("integrator", "<38", ""),
                  ("time [s]", ">9", ".3f"), ("ratio", ">7", ".2f")], rows)
     lights_table(args)
+    shadow_samples_table(args)
     return 0
 
 

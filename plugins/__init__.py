@@ -20,6 +20,8 @@ PLUGIN_MODULES: tuple[str, ...] = (
     "emitters.falloff",
     "emitters.luminous",
     "emitters.delta",
+    "emitters.opening",
+    "emitters.sized",
     "emitters.pointlight",
     "emitters.spotlight",
     "emitters.ieslight",
@@ -36,7 +38,7 @@ PLUGIN_MODULES: tuple[str, ...] = (
 #: plugin module (the classes they define are rebuilt for the variant like the plugins).
 HELPER_MODULES: frozenset[str] = frozenset(
     {"bsdfs.lobes", "emitters.falloff", "emitters.luminous", "emitters.delta", "emitters.solar",
-     "emitters.distant", "integrators.fog"}
+     "emitters.distant", "emitters.opening", "emitters.sized", "integrators.fog"}
 )
 #: XML type name -> the module that registers it (a plugin module is named after its type).
 PLUGINS: dict[str, str] = {

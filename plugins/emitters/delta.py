@@ -85,13 +85,6 @@ LUMINOUS = ("luminous_intensity", "luminous_flux")
 FLUXES = ("power", "luminous_flux")
 
 
-def spectrum_minimum(texture) -> float:
-    """The smallest value of a spatially uniform spectrum texture: over the 1 nm grid
-    360-830 nm in spectral variants, over the channels in RGB and mono variants."""
-    value = mi.unpolarized_spectrum(texture.eval(luminous.grid_interaction()))
-    return float(dr.slice(dr.min(dr.detach(value), axis=None)))
-
-
 def _float_value(props, plugin: str, name: str) -> float:
     """A non-negative float parameter (no coercion from another XML type)."""
     if props.type(name) not in (mi.Properties.Type.Float, mi.Properties.Type.Integer):

@@ -70,123 +70,111 @@ import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
 
-from spectrace.errors import ParameterError
-
 DEFAULT_LAW = "inverse_square"
 
 
-#: Aliases of the typed-parameter helpers (:mod:`spectrace.plugins.params`), kept for the
-#: lights that call them through this module.
-type_name = params.xml_type
-read_float = params.read_float
-read_choice = params.read_choice
-
-
-class InverseSquare:
+def inverse_square(dist2):
     """1 / r^2: the physical law of a point source."""
-
-    def __init__(self, props, plugin: str):
-        pass
-
-    def __call__(self, dist2):
-        return dr.rcp(dist2)
-
-    def __repr__(self):
-        return "inverse_square"
+    return dr.rcp(dist2)
 
 
-class InverseSquareEpsilon:
+def inverse_square_epsilon(dist2, *, epsilon):
     """1 / (r + epsilon)^2: finite (1/epsilon^2) at the light."""
-
-    def __init__(self, props, plugin: str):
-        self.epsilon = params.read_float(props, plugin, "epsilon", 0.01, minimum=0.0,
-                                         finite=True)
-
-    def __call__(self, dist2):
-        return dr.rcp(dr.square(dr.sqrt(dist2) + self.epsilon))
-
-    def __repr__(self):
-        return f"inverse_square_epsilon(epsilon={self.epsilon})"
+    return dr.rcp(dr.square(dr.sqrt(dist2) + epsilon))
 
 
-class Polynomial:
-    """1 / (kc + kl r + kq r^2): OpenGL's constant, linear and quadratic attenuation."""
-
-    def __init__(self, props, plugin: str):
-        self.kc, self.kl, self.kq = (
-            params.read_float(props, plugin, name, default, minimum=0.0, finite=True)
-            for name, default in (("kc", 0.0), ("kl", 0.0), ("kq", 1.0))
-        )
-        if self.kc == self.kl == self.kq == 0:
-            raise ParameterError(
-                f"{plugin}: parameters 'kc', 'kl', 'kq' of the polynomial falloff must not "
-                "all be 0 (the attenuation 1/(kc + kl r + kq r^2) would be infinite)"
-            )
-
-    def __call__(self, dist2):
-        denominator = self.kq * dist2
-        if self.kl != 0:
-            denominator = denominator + self.kl * dr.sqrt(dist2)
-        if self.kc != 0:
-            denominator = denominator + self.kc
-        return dr.rcp(denominator)
-
-    def __repr__(self):
-        return f"polynomial(kc={self.kc}, kl={self.kl}, kq={self.kq})"
+def polynomial(dist2, *, kc, kl, kq):
+    """1 / (kc + kl r + kq r^2): OpenGL's constant, linear and quadratic attenuation (the
+    terms of value 0 are left out of the kernel)."""
+    denominator = kq * dist2
+    if kl != 0:
+        denominator = denominator + kl * dr.sqrt(dist2)
+    if kc != 0:
+        denominator = denominator + kc
+    return dr.rcp(denominator)
 
 
-class Windowed:
+def windowed(dist2, *, radius, epsilon):
     """clamp(1 - (r/R)^4, 0, 1)^2 / max(r^2, eps^2): Karis' windowed inverse square."""
-
-    def __init__(self, props, plugin: str):
-        if "radius" not in props:
-            raise ParameterError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
-        self.radius = params.read_float(props, plugin, "radius", None, minimum=0.0,
-                                        strict_minimum=True, finite=True)
-        self.epsilon = params.read_float(props, plugin, "epsilon", 0.01, minimum=0.0,
-                                         strict_minimum=True, finite=True)
-        self.inv_radius4 = 1.0 / self.radius**4
-        self.epsilon2 = self.epsilon**2
-
-    def __call__(self, dist2):
-        window = dr.clip(1.0 - dr.square(dist2) * self.inv_radius4, 0.0, 1.0)
-        return dr.square(window) / dr.maximum(dist2, self.epsilon2)
-
-    def __repr__(self):
-        return f"windowed(radius={self.radius}, epsilon={self.epsilon})"
+    window = dr.clip(1.0 - dr.square(dist2) * (1.0 / radius**4), 0.0, 1.0)
+    return dr.square(window) / dr.maximum(dist2, epsilon**2)
 
 
-class NoFalloff:
+def no_falloff(dist2):
     """1: the light does not fade with distance."""
-
-    def __init__(self, props, plugin: str):
-        pass
-
-    def __call__(self, dist2):
-        return 1.0
-
-    def __repr__(self):
-        return "none"
+    return 1.0
 
 
-#: The one mapping from the lights' ``falloff`` value to its law.
-FALLOFF_LAWS = {
-    "inverse_square": InverseSquare,
-    "inverse_square_epsilon": InverseSquareEpsilon,
-    "polynomial": Polynomial,
-    "windowed": Windowed,
-    "none": NoFalloff,
+#: The distance laws, colour-science's ``*_METHODS`` style: ``falloff`` value ->
+#: ``law(dist2, **parameters)`` of the squared distance (a Dr.Jit Float) and the law's
+#: keyword parameters (Python floats), giving the attenuation factor.
+FALLOFF_METHODS = {
+    "inverse_square": inverse_square,
+    "inverse_square_epsilon": inverse_square_epsilon,
+    "polynomial": polynomial,
+    "windowed": windowed,
+    "none": no_falloff,
 }
 
 
-def parse_falloff(props, plugin: str):
-    """The distance law named by ``props['falloff']``, its parameters read and validated.
+def _epsilon(props, plugin: str, strict: bool) -> float:
+    return params.read_float(props, plugin, "epsilon", 0.01, minimum=0.0,
+                             strict_minimum=strict, finite=True)
 
-    The returned object is called with the squared distance (a Dr.Jit Float) and gives
-    the attenuation factor. Raises ``ValueError`` naming the parameter on a bad value.
-    """
-    name = params.read_choice(props, plugin, "falloff", DEFAULT_LAW, FALLOFF_LAWS)
-    return FALLOFF_LAWS[name](props, plugin)
+
+def _polynomial_parameters(props, plugin: str) -> dict:
+    terms = {name: params.read_float(props, plugin, name, default, minimum=0.0, finite=True)
+             for name, default in (("kc", 0.0), ("kl", 0.0), ("kq", 1.0))}
+    if not any(terms.values()):
+        raise ValueError(
+            f"{plugin}: parameters 'kc', 'kl', 'kq' of the polynomial falloff must not "
+            "all be 0 (the attenuation 1/(kc + kl r + kq r^2) would be infinite)"
+        )
+    return terms
+
+
+def _windowed_parameters(props, plugin: str) -> dict:
+    if "radius" not in props:
+        raise ValueError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
+    radius = params.read_float(props, plugin, "radius", None, minimum=0.0,
+                               strict_minimum=True, finite=True)
+    return {"radius": radius, "epsilon": _epsilon(props, plugin, True)}
+
+
+#: ``falloff`` value -> reader of the law's keyword parameters from the light's properties
+#: (validated, one-line errors naming them); laws without parameters are absent.
+FALLOFF_PARAMETERS = {
+    "inverse_square_epsilon": lambda props, plugin: {"epsilon": _epsilon(props, plugin,
+                                                                         False)},
+    "polynomial": _polynomial_parameters,
+    "windowed": _windowed_parameters,
+}
+
+
+class Law:
+    """A distance law bound to its parameters: ``law(dist2)`` is
+    ``FALLOFF_METHODS[name](dist2, **parameters)``; ``repr`` names it with them."""
+
+    def __init__(self, name: str, parameters: dict):
+        self.name, self.parameters = name, parameters
+        self.function = FALLOFF_METHODS[name]
+
+    def __call__(self, dist2):
+        return self.function(dist2, **self.parameters)
+
+    def __repr__(self):
+        if not self.parameters:
+            return self.name
+        shown = ", ".join(f"{k}={v}" for k, v in self.parameters.items())
+        return f"{self.name}({shown})"
+
+
+def parse_falloff(props, plugin: str) -> Law:
+    """The distance law named by ``props['falloff']``, its parameters read and validated
+    (``ValueError`` naming the parameter on a bad value)."""
+    name = params.read_choice(props, plugin, "falloff", DEFAULT_LAW, FALLOFF_METHODS)
+    reader = FALLOFF_PARAMETERS.get(name)
+    return Law(name, {} if reader is None else reader(props, plugin))
 
 
 def parse_angle(props, plugin: str, name: str, default: float) -> float:

@@ -3,9 +3,10 @@
 The ``fog`` parameter of ``local`` picks the fraction f(d) of a surface's radiance that
 survives the camera distance d; the rest is replaced by the fog's radiance:
 L = f(d) L_surface + (1 - f(d)) fog_color. Each law is a function
-``law(d, start, end, density)`` of Dr.Jit arrays and Python floats; :data:`FOG_LAWS` maps
-the XML name to it. d may be the largest finite float for rays that leave the scene: every
-law then gives 0 (only fog colour) unless it is ``none`` or the density is 0.
+``law(d, start=..., end=..., density=...)`` of Dr.Jit arrays and Python floats;
+:data:`FOG_METHODS` maps the XML name to it. d may be the largest finite float for rays
+that leave the scene: every law then gives 0 (only fog colour) unless it is ``none`` or
+the density is 0.
 
 Parameters
 ----------
@@ -56,24 +57,26 @@ from __future__ import annotations
 import drjit as dr
 
 
-def _none(d, start, end, density):
+def _none(d, **_):
     return dr.full(type(d), 1.0, dr.width(d))
 
 
-def _linear(d, start, end, density):
+def _linear(d, *, start, end, **_):
     return dr.clip((end - d) / (end - start), 0.0, 1.0)
 
 
-def _exponential(d, start, end, density):
+def _exponential(d, *, density, **_):
     return dr.exp(-density * d)
 
 
-def _exponential_squared(d, start, end, density):
+def _exponential_squared(d, *, density, **_):
     return dr.exp(-dr.square(density * d))
 
 
-#: XML name of the fog law -> f(d, start, end, density).
-FOG_LAWS = {
+#: The fog laws, colour-science's ``*_METHODS`` style: ``fog`` value ->
+#: ``f(d, **parameters)`` with the keywords ``start``, ``end``, ``density`` (each law takes
+#: those it uses).
+FOG_METHODS = {
     "none": _none,
     "linear": _linear,
     "exponential": _exponential,

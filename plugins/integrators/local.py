@@ -10,33 +10,37 @@ light through smooth (delta) BSDFs, whose ``eval`` is 0.
 Parameters
 ----------
 
-=================  ========  =======  ========  ==============================================
-parameter          type      default  unit      description
-=================  ========  =======  ========  ==============================================
-``shading``        string    phong    --        ``flat``: the face (geometric) normal;
-                                                ``phong``: the interpolated shading normal;
-                                                ``gouraud``: the whole model evaluated at the
-                                                three vertices of the hit triangle and the
-                                                radiances interpolated (below)
-``shadows``        boolean   true     --        cast a shadow ray towards every light
-``shadow_bias``    float     0.001    m         offset of the shadow-ray origin along the
-                                                geometric normal, >= 0; the ray starts at p +
-                                                bias n with no further automatic offset, so 0
-                                                shows shadow acne
-``ambient``        spectrum  0        W/m^2     irradiance of the indirect light (an emission
-                                                spectrum: RGB values are illuminants,
-                                                D65-based in spectral variants), >= 0; adds
-                                                rho / pi * ambient
-``fog``            string    none     --        fog law f(d): ``none``, ``linear``,
-                                                ``exponential``, ``exponential_squared`` (see
-                                                ``spectrace help fog``)
-``fog_start``      float     0        m         ``linear``: distance where fog begins, >= 0
-``fog_end``        float     1        m         ``linear``: distance of full fog, > fog_start
-``fog_density``    float     1        1/m       exponential laws: density, >= 0
-``fog_color``      spectrum  0        W/m^2/sr  radiance of the fog, >= 0 (an emission
-                                                spectrum)
-``hide_emitters``  boolean   false    --        do not show emitters seen directly
-=================  ========  =======  ========  ==============================================
+==================  ========  =======  ========  ==============================================
+parameter           type      default  unit      description
+==================  ========  =======  ========  ==============================================
+``shading``         string    phong    --        ``flat``: the face (geometric) normal;
+                                                 ``phong``: the interpolated shading normal;
+                                                 ``gouraud``: the whole model evaluated at the
+                                                 three vertices of the hit triangle and the
+                                                 radiances interpolated (below)
+``shadows``         boolean   true     --        cast a shadow ray towards every light
+``shadow_samples``  integer   1        --        light samples (shadow rays) per light with a
+                                                 size (``source_radius`` > 0, area lights),
+                                                 averaged: the penumbra's noise falls as
+                                                 1/sqrt(N); delta lights always take one, >= 1
+``shadow_bias``     float     0.001    m         offset of the shadow-ray origin along the
+                                                 geometric normal, >= 0; the ray starts at p +
+                                                 bias n with no further automatic offset, so 0
+                                                 shows shadow acne
+``ambient``         spectrum  0        W/m^2     irradiance of the indirect light (an emission
+                                                 spectrum: RGB values are illuminants,
+                                                 D65-based in spectral variants), >= 0; adds
+                                                 rho / pi * ambient
+``fog``             string    none     --        fog law f(d): ``none``, ``linear``,
+                                                 ``exponential``, ``exponential_squared`` (see
+                                                 ``spectrace help fog``)
+``fog_start``       float     0        m         ``linear``: distance where fog begins, >= 0
+``fog_end``         float     1        m         ``linear``: distance of full fog, > fog_start
+``fog_density``     float     1        1/m       exponential laws: density, >= 0
+``fog_color``       spectrum  0        W/m^2/sr  radiance of the fog, >= 0 (an emission
+                                                 spectrum)
+``hide_emitters``   boolean   false    --        do not show emitters seen directly
+==================  ========  =======  ========  ==============================================
 
 The parameters are read at load; none is exposed to ``mi.traverse``. Defaults of the fog
 parameters are OpenGL's (start 0, end 1, density 1, colour black).
@@ -59,9 +63,11 @@ directly (unless ``hide_emitters``). d is the distance from the camera (the hit'
 parameter t; the camera rays are normalized). Rays that hit nothing have d = infinity:
 with fog on they get fog_color (f = 0), except with density 0.
 
-Non-delta emitters (area lights, environment maps) are *sampled*, not rejected: each
-gets one emitter sample (``sample_direction`` with a fresh 2D sample) per pixel sample,
-an unbiased but noisy estimate of its direct light; raise ``spp`` for them.
+Non-delta emitters (lights with a ``source_radius``, area lights, environment maps) are
+*sampled*, not rejected: each gets ``shadow_samples`` emitter samples (``sample_direction``
+with fresh 2D samples, each with its shadow ray) per pixel sample, averaged, an unbiased
+but noisy estimate of its direct light (the noise of a penumbra); raise ``shadow_samples``
+or ``spp`` for them.
 
 Details and choices:
 
@@ -117,14 +123,14 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
-from spectrace.plugins.integrators.fog import FOG_LAWS
+from spectrace.plugins.integrators.fog import FOG_METHODS
 
 from spectrace.errors import ParameterError
 
 PLUGIN = "local"
 
 
-def _shade_phong(integrator, scene, sampler, ray, pi, si, bsdf, active):
+def _shade_phong(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     """Model evaluated at the hit with its interpolated shading frame."""
 
     def light(emitter, sample, active):
@@ -136,15 +142,16 @@ def _shade_phong(integrator, scene, sampler, ray, pi, si, bsdf, active):
     return L + integrator._ambient_term(bsdf, si, active)
 
 
-def _shade_flat(integrator, scene, sampler, ray, pi, si, bsdf, active):
+def _shade_flat(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     """Model evaluated at the hit with the face (geometric) normal as shading normal."""
     si = mi.SurfaceInteraction3f(si)
     si.sh_frame = mi.Frame3f(si.n)
     si.wi = si.to_local(-ray.d)
-    return _shade_phong(integrator, scene, sampler, ray, pi, si, bsdf, active)
+    return _shade_phong(si, integrator=integrator, scene=scene, sampler=sampler, ray=ray,
+                        pi=pi, bsdf=bsdf, active=active)
 
 
-def _shade_gouraud(integrator, scene, sampler, ray, pi, si, bsdf, active):
+def _shade_gouraud(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     """Model evaluated at the triangle's vertices, radiance interpolated barycentrically.
 
     The surface interaction at vertex k is Mitsuba's own one at the barycentric corner k
@@ -182,8 +189,10 @@ def _shade_gouraud(integrator, scene, sampler, ray, pi, si, bsdf, active):
     return L
 
 
-#: XML name of the shading model -> function computing the reflected radiance of a hit.
-SHADING_MODELS = {
+#: The shading models, colour-science's ``*_METHODS`` style: ``shading`` value ->
+#: ``shade(si, *, integrator, scene, sampler, ray, pi, bsdf, active)``, the reflected
+#: radiance of the hit ``si``.
+SHADING_METHODS = {
     "flat": _shade_flat,
     "gouraud": _shade_gouraud,
     "phong": _shade_phong,
@@ -195,12 +204,13 @@ class Local(mi.SamplingIntegrator):
 
     def __init__(self, props):
         super().__init__(props)
-        self.shading = params.read_choice(props, PLUGIN, "shading", "phong", SHADING_MODELS)
+        self.shading = params.read_choice(props, PLUGIN, "shading", "phong", SHADING_METHODS)
         self.shadows = params.read_bool(props, PLUGIN, "shadows", True)
+        self.shadow_samples = params.read_int(props, PLUGIN, "shadow_samples", 1, minimum=1)
         self.shadow_bias = params.read_float(props, PLUGIN, "shadow_bias", 1e-3, minimum=0.0,
                                              finite=True)
         self.ambient = self._spectrum(props, "ambient")
-        self.fog = params.read_choice(props, PLUGIN, "fog", "none", FOG_LAWS)
+        self.fog = params.read_choice(props, PLUGIN, "fog", "none", FOG_METHODS)
         self.fog_start = params.read_float(props, PLUGIN, "fog_start", 0.0, minimum=0.0,
                                            finite=True)
         self.fog_end = params.read_float(props, PLUGIN, "fog_end", 1.0, finite=True)
@@ -251,7 +261,10 @@ class Local(mi.SamplingIntegrator):
 
         def body(j, L, sampler):
             emitter = dr.gather(mi.EmitterPtr, emitters, j, active)
-            L += light(emitter, sampler.next_2d(active), active)
+            if self.shadow_samples == 1:
+                L += light(emitter, sampler.next_2d(active), active)
+            else:
+                L += self._averaged_light(emitter, sampler, light, active)
             return j + 1, L, sampler
 
         _, L, _ = dr.while_loop(
@@ -263,6 +276,26 @@ class Local(mi.SamplingIntegrator):
         )
         return L
 
+    def _averaged_light(self, emitter, sampler, light, active):
+        """The mean of ``shadow_samples`` evaluations of ``light`` for a light with a size
+        (one for a delta light: its samples are all the same), as a symbolic loop."""
+        count = dr.select(mi.has_flag(emitter.flags(), mi.EmitterFlags.Delta),
+                          mi.UInt32(1), mi.UInt32(self.shadow_samples))
+
+        def body(k, L, sampler):
+            L += light(emitter, sampler.next_2d(active), active)
+            return k + 1, L, sampler
+
+        _, L, _ = dr.while_loop(
+            state=(dr.zeros(mi.UInt32, dr.width(active)), dr.zeros(mi.Spectrum,
+                                                                  dr.width(active)), sampler),
+            cond=lambda k, L, sampler: k < count,
+            body=body,
+            labels=("k", "L", "sampler"),
+            label="local: shadow samples",
+        )
+        return L * dr.rcp(mi.Float(count))
+
     def _visible(self, scene, si, ds, radiance, active):
         """Whether the light sample is lit and unoccluded, the shadow ray starting at
         p + shadow_bias * n (n: geometric normal on the light's side), no extra offset."""
@@ -270,8 +303,13 @@ class Local(mi.SamplingIntegrator):
         if self.shadows:
             n = dr.mulsign(si.n, dr.dot(si.n, ds.d))
             origin = si.p + self.shadow_bias * n
+            # Towards the sampled point itself from the offset origin when the light has a
+            # surface (else the ray would end inside it); along ds.d for delta lights.
+            to_light = mi.Vector3f(ds.p - origin)
+            dist = dr.select(ds.delta, ds.dist, dr.norm(to_light))
+            d = dr.select(ds.delta, ds.d, to_light * dr.rcp(dist))
             shadow_ray = mi.Ray3f(
-                origin, ds.d, ds.dist * (1.0 - mi.math.ShadowEpsilon), si.time, si.wavelengths
+                origin, d, dist * (1.0 - mi.math.ShadowEpsilon), si.time, si.wavelengths
             )
             lit &= ~scene.ray_test(shadow_ray, lit)
         return lit
@@ -291,7 +329,8 @@ class Local(mi.SamplingIntegrator):
 
     def fog_fraction(self, d):
         """f(d) of the configured fog law for camera distances ``d``."""
-        return FOG_LAWS[self.fog](d, self.fog_start, self.fog_end, self.fog_density)
+        return FOG_METHODS[self.fog](d, start=self.fog_start, end=self.fog_end,
+                                     density=self.fog_density)
 
     # -- Mitsuba interface -----------------------------------------------------------
 
@@ -307,7 +346,8 @@ class Local(mi.SamplingIntegrator):
         if not self.hide_emitters:
             L += si.emitter(scene, active).eval(si, active)
         bsdf = si.bsdf(ray)
-        L += SHADING_MODELS[self.shading](self, scene, sampler, ray, pi, si, bsdf, hit)
+        L += SHADING_METHODS[self.shading](si, integrator=self, scene=scene, sampler=sampler,
+                                           ray=ray, pi=pi, bsdf=bsdf, active=hit)
 
         valid = hit
         if self.fog != "none":
@@ -336,7 +376,8 @@ class Local(mi.SamplingIntegrator):
     def to_string(self):
         return (
             f"Local[shading={self.shading!r}, shadows={self.shadows}, "
-            f"shadow_bias={self.shadow_bias}, fog={self.fog!r}]"
+            f"shadow_samples={self.shadow_samples}, shadow_bias={self.shadow_bias}, "
+            f"fog={self.fog!r}]"
         )
 
 

@@ -17,6 +17,8 @@ tested (``tests/studies/``) and shared:
 * :mod:`spectrace.studies.light_compositing`: one layer per luminaire from one render,
   superposition, light scenes and new lamp spectra by relighting
   (``light_compositing.ipynb``).
+* :mod:`spectrace.studies.near_field`: the point approximation's error near lights with a
+  size, umbra and penumbra, shadow-sample noise (``near_field.ipynb``).
 
 This package module holds what two or more studies share: the size :func:`budget` (the
 environment variable ``SPECTRACE_QUICK=1`` shrinks resolutions and sample counts, what

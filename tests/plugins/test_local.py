@@ -542,6 +542,50 @@ def test_area_light_one_sample_estimate(variant_rgb):
     np.testing.assert_allclose(L, radiance, rtol=RTOL)
 
 
+# -- shadow samples ---------------------------------------------------------------------
+
+#: Noise of N shadow samples against 1: 1/sqrt(N) within this factor.
+NOISE_RATIO_SLACK = 1.3
+
+
+def soft_shadow_scene(radius: float):
+    """A floor seen from above, a ball between it and a sphere light of ``radius``
+    (carried by its shape, outside the view): the floor holds the ball's umbra and
+    penumbra, which vary slowly across a pixel (little noise from the pixel samples)."""
+    from spectrace.plugins.emitters import sized
+
+    T = mi.ScalarTransform4f()
+    return mi.load_dict(sized.expand_dict({
+        "type": "scene",
+        "sensor": {**camera([0, 1.6, 0.01], [0, 0, 0], 24), "fov": 60},  # below the light
+        "floor": {"type": "rectangle", "to_world": T.rotate([1, 0, 0], -90).scale(5),
+                  "bsdf": {"type": "diffuse", "reflectance": uniform(RHO)}},
+        "ball": {"type": "sphere", "center": [0, 0.8, 0], "radius": 0.4},
+        "bulb": {"type": "pointlight", "position": [0.5, 3.0, 0.0],
+                 "intensity": uniform(INTENSITY), "source_radius": radius},
+    }))
+
+
+def test_shadow_samples_change_nothing_for_point_lights(variant):
+    """With delta lights only, ``shadow_samples`` 4 gives the image of 1, bit for bit."""
+    scene = showcase({"p": LIGHTS["pointlight"](), "s": LIGHTS["spotlight"]()})
+    np.testing.assert_array_equal(render(scene, {"type": "local", "shadow_samples": 4}),
+                                  render(scene, {"type": "local"}))
+
+
+def test_shadow_samples_average_the_penumbra(variant_rgb):
+    """N shadow rays per sized light average N estimates: the same mean, and the noise
+    falls as 1/sqrt(N) (N = 1, 16, against 256) on a floor with a soft shadow."""
+    scene = soft_shadow_scene(0.5)
+    # The same seed: the same pixel positions (the sampler's first dimensions), so the
+    # difference from 256 samples is the light samples' noise alone.
+    images = {n: render(scene, {"type": "local", "shadow_samples": n}) for n in (1, 16, 256)}
+    noise = {n: np.std(images[n] - images[256]) for n in (1, 16)}
+    assert np.mean(images[16]) == pytest.approx(np.mean(images[1]), rel=MC_RTOL)
+    ratio = noise[16] / noise[1]  # 1/4, and 1/16 of the reference's own noise
+    assert 0.25 / NOISE_RATIO_SLACK < ratio < 0.25 * NOISE_RATIO_SLACK, ratio
+
+
 # -- parameters -----------------------------------------------------------------------
 
 BAD_PARAMETERS = [
@@ -554,6 +598,7 @@ BAD_PARAMETERS = [
     ("ambient", {"ambient": -0.5}),
     ("fog_color", {"fog_color": -0.2}),
     ("ambient", {"ambient": {"type": "rgb", "value": [0.5, -0.1, 0.2]}}),
+    ("shadow_samples", {"shadow_samples": 0}),
 ]
 
 

@@ -176,9 +176,11 @@ def angle_quadrature(penumbra: float, umbra: float, order: int = 48):
     return np.concatenate(alphas), np.concatenate(weights)
 
 
-def test_sample_ray_chi2(variant_rgb):
+@pytest.mark.parametrize("source_radius", [0.0, 0.2])
+def test_sample_ray_chi2(variant_rgb, source_radius):
     """``sample_ray`` draws directions uniformly in the umbra cone around the light's
-    world +Z axis (mitsuba.chi2 against the closed-form uniform-cone density)."""
+    world +Z axis (mitsuba.chi2 against the closed-form uniform-cone density), from the
+    point or from points of the disk of ``source_radius``."""
     import drjit as dr
     import mitsuba as mi
     from mitsuba import chi2
@@ -187,12 +189,15 @@ def test_sample_ray_chi2(variant_rgb):
     T = checks.transform()
     to_world = T.look_at([0, 0, 0], [0.3, -1.0, 0.4], [0, 0, 1])
     light = mi.load_dict({"type": "spotlight", "to_world": to_world, "umbra_angle": umbra,
-                          "penumbra_angle": 10.0})
+                          "penumbra_angle": 10.0, "source_radius": source_radius})
     axis = np.array([0.3, -1.0, 0.4]) / np.linalg.norm([0.3, -1.0, 0.4])
     cos_u = np.cos(np.radians(umbra))
 
     def sample(s):
-        ray, _ = light.sample_ray(0.0, 0.5, s, mi.Point2f(0.5))
+        if source_radius == 0:
+            ray, _ = light.sample_ray(0.0, 0.5, s, mi.Point2f(0.5))
+        else:  # the direction comes from sample3, the point of the disk from sample2
+            ray, _ = light.sample_ray(0.0, 0.5, mi.Point2f(0.3, 0.8), s)
         return ray.d
 
     def pdf(v):
@@ -439,15 +444,36 @@ def test_gobo_pdf_wavelengths_is_the_density_sampled(variant_spectral):
     assert not np.allclose(own, np.array(pdf), rtol=1e-2)
 
 
+def test_mitsuba_spot_angles_are_accepted(variant):
+    """Mitsuba's ``spot`` calls the angles ``cutoff_angle`` and ``beam_width``: given to
+    ``spotlight`` with ``cone_falloff=linear_angle`` they render exactly as ``spot`` with
+    the same parameters, also with ``cutoff_angle`` alone (Mitsuba's beam width, 3/4 of
+    the cutoff)."""
+    import mitsuba as mi
+
+    T = checks.transform()
+    frame = T.look_at(list(P_LIGHT), list(TARGET), [0, 0, 1])
+    for angles in ({"cutoff_angle": UMBRA, "beam_width": PENUMBRA}, {"cutoff_angle": UMBRA}):
+        images = []
+        for kind, extra in (("spot", {}), ("spotlight", {"cone_falloff": "linear_angle"})):
+            light = {"type": kind, "to_world": frame, "intensity": INTENSITY, **angles, **extra}
+            images.append(checks.render(light, spp=4, sensor="perspective", res=16, seed=2))
+        assert images[0].max() > 0.0
+        np.testing.assert_allclose(images[1], images[0], rtol=RTOL_SAME,
+                                   atol=RTOL_SAME * images[0].max(), err_msg=str(angles))
+    light = mi.load_dict({"type": "spotlight", "cutoff_angle": 40.0})
+    assert float(mi.traverse(light)["penumbra_angle"][0]) == pytest.approx(30.0)
+
+
 @pytest.mark.parametrize(("name", "ours"), [("cutoff_angle", "umbra_angle"),
                                             ("beam_width", "penumbra_angle")])
-def test_mitsuba_spot_angles_point_to_ours(variant_rgb, name, ours):
-    """Mitsuba's ``spot`` calls the angles ``cutoff_angle`` and ``beam_width``: given to
-    ``spotlight`` they fail in one line that names spotlight's parameter."""
+def test_both_names_of_an_angle_fail(variant_rgb, name, ours):
+    """An angle given under both names (ours and Mitsuba's) fails in one line naming
+    both."""
     import mitsuba as mi
 
     with pytest.raises(Exception) as info:
-        mi.load_dict({"type": "spotlight", name: 20.0})
+        mi.load_dict({"type": "spotlight", name: 20.0, ours: 20.0})
     line = next(l for l in str(info.value).splitlines() if "spotlight: " in l)
     assert f"'{name}'" in line and f"'{ours}'" in line, line
 

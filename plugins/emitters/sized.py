@@ -1,0 +1,254 @@
+"""``sized``: lights with a size, one scene element each (helper page, not a plugin).
+
+``pointlight`` and ``spotlight`` take ``source_radius``: the light is then a sphere (point
+light) or a disk facing the spot's +Z (spot light) that emits the radiance of ``opening``
+(L = I / A_proj), so that it casts soft shadows, lights the near field correctly and far
+away is the point light. To be *seen* (camera rays, reflections) and to be hit by the rays
+that a BSDF samples (multiple importance sampling in Mitsuba's ``path``, ``volpath`` and
+``direct``), a light must be attached to a Mitsuba shape: the light is then an area emitter
+(``mi.EmitterFlags.Surface``) of a ``sphere`` or ``disk`` with a black ``diffuse`` BSDF.
+
+Design: the user keeps writing one ``<emitter>``. spectrace's scene loader
+(``spectrace.scene.load_scene``: ``spectrace render``, ``lux``, ``sweep``, ...) rewrites
+every ``pointlight``/``spotlight`` outside a ``<shape>`` whose ``source_radius`` is > 0
+(after ``$name`` substitution; files the scene ``<include>``s are not rewritten) into that
+shape with the emitter inside (:func:`expand_tree`); Python users of
+``mi.load_dict`` call :func:`expand_dict` on their scene dictionary (Mitsuba 3.9 lets a
+Python plugin neither add objects to a scene nor override ``Object::expand``, the C++ hook
+that expands one element into several). The emitter takes its geometry from its own
+parameters (``position`` or ``to_world``, ``source_radius``); the shape is where rays meet
+it. A sized light that is not attached to a shape (``mi.load_file`` of the XML without
+spectrace's loader) still casts its soft shadows through next-event estimation, marking its
+samples as delta (``ds.delta``) so that integrators give them the full weight, but camera
+and BSDF rays do not see it. Its flags are empty, neither ``DeltaPosition`` nor
+``Surface``: Mitsuba 3.9's scene keeps a top-level emitter only when it is not flagged
+``Surface`` (``src/render/scene.cpp``), and a shape registers its emitter whatever the
+flags.
+
+Parameters
+----------
+
+=================  ======  =======  ====  ===================================================
+parameter          type    default  unit  description
+=================  ======  =======  ====  ===================================================
+``source_radius``  float   0        m     radius of the emitting sphere or disk, >= 0; 0: the
+                                          delta light, exactly as before
+=================  ======  =======  ====  ===================================================
+
+With ``source_radius`` > 0 the distance law must be ``inverse_square`` (the other laws of
+``falloff`` describe no emitting surface) and ``to_world`` must be rigid (rotation and
+translation, as ``lookat`` gives: the size is ``source_radius``). ``source_radius`` is read
+at load (not exposed); moving a sized light through ``mi.traverse`` (``position``,
+``to_world``) moves its emission but not its shape: move the shape too. The shape is
+black (it absorbs what falls on it) and opaque (it casts a shadow on what lies behind).
+
+Formula
+-------
+
+::
+
+    sphere:  L = I / (pi r^2)                      (flux 4 pi I, as the point light)
+    disk:    L(omega) = I(omega) / (pi r^2 cos gamma)  (gamma from the spot's +Z)
+
+Sources
+-------
+
+Pharr, Jakob, Humphreys (2023), *Physically Based Rendering* 4th ed., sec. 12.5 (area
+lights); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3, ``src/emitters/area.cpp`` (the
+area-emitter interface reproduced) and ``src/render/python/emitter_v.cpp`` (what a Python
+emitter may override).
+
+Example
+-------
+
+A 5 cm bulb; ``spectrace render`` expands it into a sphere carrying the light::
+
+    <emitter type="pointlight">
+        <point name="position" x="0" y="2" z="0"/>
+        <float name="luminous_flux" value="800"/>
+        <float name="source_radius" value="0.05"/>
+    </emitter>
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import re
+import xml.etree.ElementTree as ET
+
+#: XML type of a sizable light -> the Mitsuba shape it becomes.
+SHAPES = {"pointlight": "sphere", "spotlight": "disk"}
+#: Largest deviation of to_world's 3x3 part from a rotation for a sized light.
+RIGID_TOLERANCE = 1e-4
+_PARAMETER = re.compile(r"\$(\w+)")
+
+
+def read_source_radius(props, plugin: str) -> float:
+    """``source_radius`` (m, finite, >= 0; 0 when absent)."""
+    from spectrace.plugins import params
+
+    return params.read_float(props, plugin, "source_radius", 0.0, minimum=0.0, finite=True)
+
+
+def check_sized(plugin: str, law, to_world=None) -> None:
+    """A sized light needs the inverse-square law and a rigid ``to_world``."""
+    if repr(law) != "inverse_square":
+        raise ValueError(
+            f"{plugin}: parameter 'falloff' must be inverse_square with source_radius > 0 "
+            f"(got {law!r})"
+        )
+    if to_world is not None:
+        import numpy as np
+
+        m = np.array(to_world.matrix, dtype=np.float64).reshape(4, 4)[:3, :3]
+        if not np.allclose(m.T @ m, np.eye(3), atol=RIGID_TOLERANCE):
+            raise ValueError(
+                f"{plugin}: parameter 'to_world' must be a rotation and translation with "
+                "source_radius > 0 (its size is source_radius)"
+            )
+
+
+def direction_sample(emitter, it, p, n, pdf):
+    """The ``mi.DirectionSample3f`` from ``it`` to the point ``p`` (normal ``n``) of the
+    light's surface with density ``pdf``; delta when the light has no shape (see above)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    ds = dr.zeros(mi.DirectionSample3f)
+    ds.p = p
+    ds.n = n
+    ds.time = it.time
+    ds.pdf = pdf
+    ds.delta = emitter.get_shape() is None
+    ds.emitter = mi.EmitterPtr(emitter)
+    d = mi.Vector3f(p - it.p)
+    dist2 = dr.squared_norm(d)
+    ds.dist = dr.sqrt(dist2)
+    ds.d = d * dr.rsqrt(dist2)
+    return ds
+
+
+def spawn_ray(p, n, d, time, wavelengths):
+    """The ray leaving the light's surface point ``p`` (normal ``n``) along ``d``, offset
+    as Mitsuba offsets rays leaving surfaces (so that it does not hit its own shape)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    si = dr.zeros(mi.SurfaceInteraction3f)
+    si.p = p
+    si.n = n
+    si.time = time
+    si.wavelengths = wavelengths
+    return si.spawn_ray(d)
+
+
+def position_sample(time, p, n, area):
+    """A ``mi.PositionSample3f`` uniform by area and its weight (the area)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    ps = dr.zeros(mi.PositionSample3f)
+    ps.p = p
+    ps.n = n
+    ps.time = time
+    ps.pdf = dr.rcp(area)
+    ps.delta = False
+    return ps, mi.Float(area)
+
+
+# -- the expansion into shapes ---------------------------------------------------------------
+
+
+def _black_bsdf_xml() -> ET.Element:
+    bsdf = ET.Element("bsdf", type="diffuse")
+    ET.SubElement(bsdf, "float", name="reflectance", value="0")
+    return bsdf
+
+
+def _radius_value(element: ET.Element, values: dict[str, str]):
+    """The raw and the resolved ``source_radius`` of a light element (None when absent)."""
+    for child in element:
+        if child.get("name") == "source_radius":
+            raw = child.get("value", "")
+            resolved = _PARAMETER.sub(lambda m: values.get(m.group(1), m.group(0)), raw)
+            try:
+                return raw, float(resolved)
+            except ValueError:
+                return raw, None
+    return None, None
+
+
+def _shape_xml(element: ET.Element, raw_radius: str) -> ET.Element:
+    kind = element.get("type")
+    shape = ET.Element("shape", type=SHAPES[kind])
+    to_world = next((c for c in element if c.tag == "transform"
+                     and c.get("name") == "to_world"), None)
+    if kind == "pointlight":
+        position = next((c for c in element if c.get("name") == "position"), None)
+        if position is not None:
+            center = copy.deepcopy(position)
+            center.set("name", "center")
+            shape.append(center)
+        elif to_world is not None:
+            shape.append(copy.deepcopy(to_world))
+        ET.SubElement(shape, "float", name="radius", value=raw_radius)
+    else:
+        transform = ET.SubElement(shape, "transform", name="to_world")
+        ET.SubElement(transform, "scale", x=raw_radius, y=raw_radius, z="1")
+        if to_world is not None:
+            transform.extend(copy.deepcopy(list(to_world)))
+    shape.append(_black_bsdf_xml())
+    shape.append(element)
+    return shape
+
+
+def expand_tree(root: ET.Element, values: dict[str, str] | None = None) -> bool:
+    """Rewrite, in place, every ``pointlight``/``spotlight`` element of ``root`` that is not
+    inside a ``<shape>`` and whose ``source_radius`` is > 0 (``$name`` replaced from
+    ``values``) into a black sphere or disk that carries it. Returns whether it changed
+    anything."""
+    values = values or {}
+    changed = False
+    for parent in root.iter():
+        if parent.tag == "shape":
+            continue
+        for index, element in enumerate(list(parent)):
+            if element.tag != "emitter" or element.get("type") not in SHAPES:
+                continue
+            raw, radius = _radius_value(element, values)
+            if radius is None or not radius > 0 or not math.isfinite(radius):
+                continue  # absent, 0 or invalid: the plugin itself reports a bad value
+            parent.remove(element)
+            parent.insert(index, _shape_xml(element, raw))
+            changed = True
+    return changed
+
+
+def expand_dict(scene: dict) -> dict:
+    """The ``mi.load_dict`` scene dictionary with each top-level ``pointlight`` or
+    ``spotlight`` of ``source_radius`` > 0 carried by its black sphere or disk (a new
+    dictionary; the others entries are kept as they are)."""
+    import mitsuba as mi
+
+    out = {}
+    for key, value in scene.items():
+        radius = value.get("source_radius", 0.0) if isinstance(value, dict) else 0.0
+        if (not isinstance(value, dict) or value.get("type") not in SHAPES
+                or not isinstance(radius, (int, float)) or not radius > 0):
+            out[key] = value
+            continue
+        shape = {"type": SHAPES[value["type"]],
+                 "bsdf": {"type": "diffuse", "reflectance": 0.0}, "emitter": value}
+        to_world = value.get("to_world", mi.ScalarTransform4f())
+        if value["type"] == "pointlight":
+            if "position" in value:
+                shape["center"] = value["position"]
+            else:
+                shape["to_world"] = to_world
+            shape["radius"] = float(radius)
+        else:
+            shape["to_world"] = mi.ScalarTransform4f(to_world) @ mi.ScalarTransform4f().scale(
+                [float(radius), float(radius), 1.0])
+        out[key] = shape
+    return out
