@@ -70,6 +70,8 @@ import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
 
+from spectrace.errors import ParameterError
+
 DEFAULT_LAW = "inverse_square"
 
 
@@ -126,7 +128,7 @@ def _polynomial_parameters(props, plugin: str) -> dict:
     terms = {name: params.read_float(props, plugin, name, default, minimum=0.0, finite=True)
              for name, default in (("kc", 0.0), ("kl", 0.0), ("kq", 1.0))}
     if not any(terms.values()):
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameters 'kc', 'kl', 'kq' of the polynomial falloff must not "
             "all be 0 (the attenuation 1/(kc + kl r + kq r^2) would be infinite)"
         )
@@ -135,7 +137,7 @@ def _polynomial_parameters(props, plugin: str) -> dict:
 
 def _windowed_parameters(props, plugin: str) -> dict:
     if "radius" not in props:
-        raise ValueError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
+        raise ParameterError(f"{plugin}: falloff 'windowed' needs parameter 'radius' (> 0, m)")
     radius = params.read_float(props, plugin, "radius", None, minimum=0.0,
                                strict_minimum=True, finite=True)
     return {"radius": radius, "epsilon": _epsilon(props, plugin, True)}

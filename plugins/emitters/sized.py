@@ -77,6 +77,8 @@ import math
 import re
 import xml.etree.ElementTree as ET
 
+from spectrace.errors import ParameterError
+
 #: XML type of a sizable light -> the Mitsuba shape it becomes.
 SHAPES = {"pointlight": "sphere", "spotlight": "disk"}
 #: Largest deviation of to_world's 3x3 part from a rotation for a sized light.
@@ -94,7 +96,7 @@ def read_source_radius(props, plugin: str) -> float:
 def check_sized(plugin: str, law, to_world=None) -> None:
     """A sized light needs the inverse-square law and a rigid ``to_world``."""
     if repr(law) != "inverse_square":
-        raise ValueError(
+        raise ParameterError(
             f"{plugin}: parameter 'falloff' must be inverse_square with source_radius > 0 "
             f"(got {law!r})"
         )
@@ -103,7 +105,7 @@ def check_sized(plugin: str, law, to_world=None) -> None:
 
         m = np.array(to_world.matrix, dtype=np.float64).reshape(4, 4)[:3, :3]
         if not np.allclose(m.T @ m, np.eye(3), atol=RIGID_TOLERANCE):
-            raise ValueError(
+            raise ParameterError(
                 f"{plugin}: parameter 'to_world' must be a rotation and translation with "
                 "source_radius > 0 (its size is source_radius)"
             )

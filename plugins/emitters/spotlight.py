@@ -216,7 +216,7 @@ def _angle(props, ours: str, default: float):
     """The half-angle ``ours`` or its Mitsuba ``spot`` name (not both), or ``default``."""
     theirs = MITSUBA_NAMES[ours]
     if ours in props and theirs in props:
-        raise ValueError(
+        raise ParameterError(
             f"{PLUGIN}: give either parameter '{ours}' or Mitsuba's name for it, "
             f"'{theirs}', not both"
         )
@@ -232,7 +232,7 @@ def parse_cone_angles(props) -> tuple[float, float]:
     mitsuba_default = "cutoff_angle" in props and "penumbra_angle" not in props
     penumbra = _angle(props, "penumbra_angle", 0.75 * umbra if mitsuba_default else 20.0)
     if penumbra > umbra:
-        raise ValueError(
+        raise ParameterError(
             f"{PLUGIN}: parameter 'penumbra_angle' must be <= umbra_angle "
             f"(got penumbra_angle={penumbra}, umbra_angle={umbra})"
         )
@@ -280,7 +280,7 @@ class SpotLight(delta.DeltaLight):
                                                opening.DEFAULT_DISK_SAMPLING,
                                                opening.DISK_SAMPLING_METHODS)
             if not penumbra < MAX_SIZED_PENUMBRA:
-                raise ValueError(
+                raise ParameterError(
                     f"{PLUGIN}: parameter 'penumbra_angle' must be < {MAX_SIZED_PENUMBRA:g} "
                     f"with source_radius > 0 (got {penumbra:g}: the disk's radiance I / (pi "
                     "r^2 cos gamma) would be unbounded at grazing angles)"

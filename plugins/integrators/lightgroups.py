@@ -117,6 +117,7 @@ import mitsuba as mi
 from spectrace.plugins import params
 
 from spectrace import lightgroups
+from spectrace.errors import ParameterError
 
 PLUGIN = "lightgroups"
 #: Russian roulette keeps a path with at most this probability (Mitsuba's ``path``).
@@ -140,7 +141,7 @@ class LightGroups(mi.SamplingIntegrator):
     def __init__(self, props):
         super().__init__(props)  # reads hide_emitters
         if mi.is_polarized:
-            raise ValueError(f"{PLUGIN}: polarized variants are not supported (variant "
+            raise ParameterError(f"{PLUGIN}: polarized variants are not supported (variant "
                              f"{mi.variant()}); use the unpolarized one")
         params.read_bool(props, PLUGIN, "hide_emitters", False)  # type check only
         max_depth = params.read_int(props, PLUGIN, "max_depth", -1, minimum=-1)
@@ -150,7 +151,7 @@ class LightGroups(mi.SamplingIntegrator):
         try:
             self.groups = lightgroups.parse_groups(text)
         except ValueError as e:
-            raise ValueError(f"{PLUGIN}: parameter 'groups': {e}") from None
+            raise ParameterError(f"{PLUGIN}: parameter 'groups': {e}") from None
         self.names = list(self.groups)
         self.bands = None  # band centres (nm) of spectral layers
         text = params.read_string(props, PLUGIN, "band_wavelengths", None)
@@ -161,15 +162,15 @@ class LightGroups(mi.SamplingIntegrator):
     def _band_centres(text: str) -> list[float]:
         where = f"{PLUGIN}: parameter 'band_wavelengths'"
         if not mi.is_spectral:
-            raise ValueError(f"{where} needs a spectral variant (got {mi.variant()})")
+            raise ParameterError(f"{where} needs a spectral variant (got {mi.variant()})")
         try:
             c = [float(v) for v in text.replace(",", " ").split()]
         except ValueError:
-            raise ValueError(f"{where} must be numbers in nm (got {text!r})") from None
+            raise ParameterError(f"{where} must be numbers in nm (got {text!r})") from None
         steps = [b - a for a, b in zip(c, c[1:], strict=False)]
         if len(c) < 2 or not all(math.isfinite(v) and v > 0 for v in c) or not all(
                 abs(d - steps[0]) <= 1e-6 * steps[0] and d > 0 for d in steps):
-            raise ValueError(f"{where} must be 2 or more evenly spaced increasing "
+            raise ParameterError(f"{where} must be 2 or more evenly spaced increasing "
                              f"wavelengths in nm (got {text!r})")
         return c
 
