@@ -23,7 +23,9 @@ scene file and its assets readable at the *same absolute path* as on the client 
 the scene by its path; images travel back to the client, which writes every output file,
 so no shared folder is needed for the outputs).
 
-The task functions (:func:`render_image`, :func:`render_pass`) run on the workers.
+The task functions (:func:`render_image`, :func:`render_pass`) run on the workers;
+:func:`render_passes_distributed` is the pass loop of :mod:`spectrace.passes` with its
+passes as tasks (this module builds on :mod:`spectrace.passes`, never the reverse).
 """
 
 from __future__ import annotations
@@ -35,13 +37,15 @@ import signal
 import threading
 import time
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from spectrace.errors import UserError
+from spectrace.passes import RenderResult, pass_seed, pass_sizes, render_passes, scene_spp
+from spectrace.signals import defer_sigint
 
 #: Worker processes of the default LocalCluster. Measured on the 2-core development machine
 #: with benchmarks/bench_sweep.py (small renders): two single-threaded workers beat one
@@ -54,6 +58,7 @@ CONNECT_TIMEOUT_S = 10
 RETRIES = 2
 PLUGIN_NAME = "spectrace-setup"
 
+_POLL_S = 0.02  # how often the distributed pass loop looks for finished passes
 _LOGGERS = ("distributed", "tornado", "asyncio", "bokeh")
 
 
@@ -84,7 +89,7 @@ def _check_workers(workers: int | None) -> int:
     return n
 
 
-def start_local(workers: int | None = None, dr_threads: int | None = None):
+def start_local(workers: int | None = None):
     """A LocalCluster of ``workers`` processes, one Dask thread each, quiet."""
     from distributed import LocalCluster
 
@@ -193,16 +198,9 @@ class Setup(_WorkerPlugin):
         quiet_logs()
         threads = self.dr_threads or dr_thread_share(
             self.workers_per_host.get(get_address_host(worker.address), 1))
-        _state.dr_threads = threads
+        _state.dr_threads = threads  # applied by ensure_variant, now or at the first task
         if self.variant:
             ensure_variant(self.variant)
-        else:
-            from spectrace.llvm import configure_libllvm
-
-            configure_libllvm()
-        import drjit as dr
-
-        dr.set_thread_count(threads)
 
 
 @dataclass
@@ -300,8 +298,6 @@ def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> tuple[np.ndar
     """
     import mitsuba as mi
 
-    from spectrace.passes import pass_seed, scene_spp
-
     scene = _cached_scene(spec)
     img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
     return np.asarray(img, dtype=np.float32), scene_spp(scene)
@@ -317,7 +313,6 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
     answer, not a failure Dask should retry.
     """
     from spectrace.images import as_rgb
-    from spectrace.passes import render_passes, scene_spp
 
     start = time.perf_counter()
     try:
@@ -329,3 +324,83 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
     return {"image": np.ascontiguousarray(as_rgb(result.image)), "spp": result.spp,
             "seconds": time.perf_counter() - start, "render_seconds": result.seconds,
             "nonfinite": result.nonfinite}
+
+
+# ---------------------------------------------------------------- on the client
+
+def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:
+    """The numpy mean image from the sample-weighted float64 sum ``accum`` of ``done``
+    samples."""
+    image = (accum / done).astype(np.float32)
+    bad = ~np.isfinite(image)
+    nonfinite = int(bad.sum())
+    if nonfinite:  # never a NaN in an image: zero them and report the count
+        image[bad] = 0.0
+    return RenderResult(image, done, passes, seconds, interrupted, nonfinite)
+
+
+def render_passes_distributed(
+    client,
+    spec,
+    spp: int,
+    seed: int = 0,
+    spp_per_pass: int = 16,
+    on_pass: Callable[[int, int], None] | None = None,
+    window: int | None = None,
+) -> RenderResult:
+    """:func:`spectrace.passes.render_passes` with its passes as tasks on ``client``'s workers.
+
+    ``spec`` is a :class:`SceneSpec` (what each worker loads); the client does not load
+    the scene, so the pass size is given (the command line gives
+    :func:`~spectrace.passes.scene_spp_per_pass` of the scene it loaded, the local loop's
+    default). Pass ``index`` has the local loop's seed
+    :func:`~spectrace.passes.pass_seed` ``(seed, index)`` and sample count, and the passes
+    are summed in index order with weights equal to their sample counts, so the image
+    equals the local render's (up to the film's float additions).
+    At most ``window`` passes (default: twice the workers' threads) are outstanding at a
+    time. A SIGINT (Ctrl-C) cancels the outstanding passes and returns the mean of the
+    passes done (``interrupted`` set). A pass whose worker dies is run again elsewhere.
+    The result's ``pixels`` are a numpy array (the workers send numpy arrays).
+    """
+    from distributed import as_completed
+
+    sizes = pass_sizes(spp, spp_per_pass)
+    if window is None:
+        threads = sum(w.get("nthreads", 1) for w in
+                      client.scheduler_info(n_workers=-1)["workers"].values())
+        window = 2 * max(1, threads)
+    images: dict[int, np.ndarray] = {}
+    ready = as_completed(loop=client.loop)
+    pending: dict = {}  # future -> pass index
+    next_index = 0
+    done = 0
+    start = time.perf_counter()
+    with defer_sigint(stop_only=True) as stop:
+        while (pending or next_index < len(sizes)) and not stop.seen:
+            while next_index < len(sizes) and len(pending) < window:
+                future = client.submit(render_pass, spec, seed, next_index, sizes[next_index],
+                                       pure=False, retries=RETRIES)
+                pending[future] = next_index
+                ready.add(future)
+                next_index += 1
+            if not ready.has_ready():
+                time.sleep(_POLL_S)
+                continue
+            for future in ready.next_batch(block=False):
+                index = pending.pop(future)
+                images[index], taken = future.result()  # a task's own error propagates
+                sizes[index] = taken  # the count the worker's sampler took
+                done += taken
+                if on_pass is not None:
+                    on_pass(done, spp)
+        if pending:
+            client.cancel(list(pending))
+        interrupted = stop.seen and done < spp
+    seconds = time.perf_counter() - start
+    if not images:  # stopped before the first pass finished: nothing to average
+        return RenderResult(np.zeros((0, 0, 3), np.float32), 0, 0, seconds, True)
+    accum = None
+    for index in sorted(images):
+        img = np.asarray(images[index], dtype=np.float64) * sizes[index]
+        accum = img if accum is None else accum + img
+    return _mean_of(accum, done, len(images), seconds, interrupted)

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import cluster
-from spectrace.cluster import SceneSpec
-from spectrace.passes import render_passes, render_passes_distributed
+from spectrace.cluster import SceneSpec, render_passes_distributed
+from spectrace.passes import render_passes
 
 ROOT = Path(__file__).resolve().parents[1]
 SHOWCASE = ROOT / "scenes" / "showcase.xml"
