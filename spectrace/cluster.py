@@ -34,6 +34,7 @@ import contextlib
 import logging
 import os
 import signal
+import sys
 import threading
 import time
 import warnings
@@ -43,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import UserError
+from spectrace.errors import UserError, first_line
 from spectrace.passes import RenderResult, pass_seed, pass_sizes, render_passes, scene_spp
 from spectrace.signals import defer_sigint
 
@@ -89,13 +90,40 @@ def _check_workers(workers: int | None) -> int:
     return n
 
 
+@contextlib.contextmanager
+def main_script_hidden():
+    """While inside, worker processes started by ``multiprocessing`` (Dask's nannies use its
+    *spawn* method) do not run the user's main script.
+
+    A spawned child imports the parent's ``__main__`` (its ``__file__``, or the module of
+    ``__spec__`` for ``python -m``) as ``__mp_main__`` before it runs anything, so a plain
+    script that calls :func:`spectrace.sweep` without ``if __name__ == "__main__":`` ran
+    its top level again in every worker, whose nested cluster then failed ("Nanny failed
+    to start"). The workers need nothing of that script (their tasks are spectrace
+    functions), so both attributes are set aside here and restored on exit. A main module
+    without them (Jupyter, ``python -c``) is left alone."""
+    main = sys.modules.get("__main__")
+    saved = {name: main.__dict__[name] for name in ("__file__", "__spec__")
+             if main is not None and main.__dict__.get(name) is not None}
+    main.__dict__.pop("__file__", None)
+    if "__spec__" in saved:
+        main.__spec__ = None  # (spawn reads the attribute: it must exist)
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            setattr(main, name, value)
+
+
 def start_local(workers: int | None = None):
-    """A LocalCluster of ``workers`` processes, one Dask thread each, quiet."""
+    """A LocalCluster of ``workers`` processes, one Dask thread each, quiet; its workers do
+    not run the user's main script (:func:`main_script_hidden`, while they start: use
+    :func:`connect` to keep that for the cluster's life, as when a worker is restarted)."""
     from distributed import LocalCluster
 
     n = _check_workers(workers)
     quiet_logs()
-    with _sigint_ignored(), warnings.catch_warnings():
+    with _sigint_ignored(), warnings.catch_warnings(), main_script_hidden():
         # another cluster on this machine holds port 8787: the scheduler's HTTP server
         # (health checks; the dashboard is off) takes another port and says so
         warnings.filterwarnings("ignore", message="Port .* is already in use")
@@ -122,25 +150,27 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
         raise UserError("--workers and --scheduler exclude each other")
     quiet_logs()
     cluster = None
-    if scheduler:
-        check_address(scheduler)
+    with contextlib.ExitStack() as stack:
+        if scheduler:
+            check_address(scheduler)
+            try:
+                timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
+                client = Client(scheduler, timeout=timeout, set_as_default=False)
+            except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
+                raise UserError(f"cannot reach scheduler {scheduler}: {first_line(e)}") \
+                    from None
+        else:
+            stack.enter_context(main_script_hidden())  # also when a nanny restarts a worker
+            cluster = start_local(workers)
+            client = Client(cluster, set_as_default=False)
         try:
-            timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
-            client = Client(scheduler, timeout=timeout, set_as_default=False)
-        except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
-            reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-            raise UserError(f"cannot reach scheduler {scheduler}: {reason}") from None
-    else:
-        cluster = start_local(workers)
-        client = Client(cluster, set_as_default=False)
-    try:
-        setup_workers(client, variant=variant, dr_threads=dr_threads)
-        yield client
-    finally:
-        with _sigint_ignored():
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            setup_workers(client, variant=variant, dr_threads=dr_threads)
+            yield client
+        finally:
+            with _sigint_ignored():
+                client.close()
+                if cluster is not None:
+                    cluster.close()
 
 
 def check_address(address: str) -> None:
