@@ -11,8 +11,13 @@ plugin once, when it starts (and again if it is restarted after dying):
   do not oversubscribe it;
 * SIGINT is ignored (a Ctrl-C in the terminal reaches every process of the group: the
   client cancels the work, the workers must not die of it);
-* the variant is set and the spectrace plugins registered (:func:`ensure_variant`, once per
-  process and variant).
+* the variant is set, lazily (:func:`ensure_variant`, once per process and variant): each
+  scene registers the plugins it names as it loads.
+
+Local workers are forked from a *fork server* (:data:`FORKSERVER_PRELOAD`), which imports
+Dask and spectrace once for all of them (a spawned worker imports them itself: about a
+second of CPU each), and none of them runs the user's main script
+(:func:`main_script_hidden`).
 
 Kernel cache: Dr.Jit keeps compiled kernels in ``~/.drjit``; local workers inherit the
 client's environment (``HOME``, ``DRJIT_LIBLLVM_PATH``), so they share one cache folder and
@@ -59,6 +64,10 @@ CONNECT_TIMEOUT_S = 10
 RETRIES = 2
 PLUGIN_NAME = "spectrace-setup"
 
+#: What the fork server of local workers imports before it forks them. Not Mitsuba: each
+#: worker imports it after pointing Dr.Jit at the libLLVM (:func:`spectrace.set_variant`),
+#: and nothing is forked from a process that holds Dr.Jit's threads.
+FORKSERVER_PRELOAD = ("distributed", "numpy", "spectrace.cluster")
 _POLL_S = 0.02  # how often the distributed pass loop looks for finished passes
 _LOGGERS = ("distributed", "tornado", "asyncio", "bokeh")
 
@@ -115,6 +124,24 @@ def main_script_hidden():
             setattr(main, name, value)
 
 
+@contextlib.contextmanager
+def forkserver():
+    """While inside, Dask's nannies start their workers from a fork server that has
+    imported :data:`FORKSERVER_PRELOAD` (the server starts with the first worker and lives
+    as long as this process)."""
+    import multiprocessing
+
+    import dask
+
+    with dask.config.set({"distributed.worker.multiprocessing-method": "forkserver"}):
+        from distributed.utils import get_mp_context
+
+        get_mp_context()  # Dask's own preload list, set once; then this one
+        multiprocessing.get_context("forkserver").set_forkserver_preload(
+            list(FORKSERVER_PRELOAD))
+        yield
+
+
 def start_local(workers: int | None = None):
     """A LocalCluster of ``workers`` processes, one Dask thread each, quiet; its workers do
     not run the user's main script (:func:`main_script_hidden`, while they start: use
@@ -123,7 +150,7 @@ def start_local(workers: int | None = None):
 
     n = _check_workers(workers)
     quiet_logs()
-    with _sigint_ignored(), warnings.catch_warnings(), main_script_hidden():
+    with _sigint_ignored(), warnings.catch_warnings(), main_script_hidden(), forkserver():
         # another cluster on this machine holds port 8787: the scheduler's HTTP server
         # (health checks; the dashboard is off) takes another port and says so
         warnings.filterwarnings("ignore", message="Port .* is already in use")
@@ -160,7 +187,9 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
                 raise UserError(f"cannot reach scheduler {scheduler}: {first_line(e)}") \
                     from None
         else:
-            stack.enter_context(main_script_hidden())  # also when a nanny restarts a worker
+            # also when a nanny restarts a worker
+            stack.enter_context(main_script_hidden())
+            stack.enter_context(forkserver())
             cluster = start_local(workers)
             client = Client(cluster, set_as_default=False)
         try:
@@ -246,12 +275,14 @@ _SCENE_CACHE_SIZE = 2
 
 
 def ensure_variant(variant: str) -> None:
-    """Set ``variant`` and register the plugins, unless this process already did."""
+    """Set ``variant``, unless this process already did: lazily, as the command line does
+    (each scene registers the plugins it names as it loads: a worker does not execute
+    every plugin and Mitsuba's Python integrators at start-up)."""
     if _state.variant == variant:
         return
     import spectrace
 
-    spectrace.set_variant(variant)
+    spectrace.set_variant(variant, lazy=True)
     _state.variant = variant
     _state.setups += 1
     _state.scenes.clear()
