@@ -361,7 +361,11 @@ def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> tuple[np.ndar
 
     scene = _cached_scene(spec)
     img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
-    return np.asarray(img, dtype=np.float32), scene_spp(scene)
+    # a copy, and the tensor freed here: a view would keep it alive until the worker's
+    # event loop drops the sent result, and Dr.Jit's frees there contend with the next pass
+    image = np.array(img, dtype=np.float32)
+    del img
+    return image, scene_spp(scene)
 
 
 def render_image(spec: SceneSpec, spp: int | None, seed: int,
@@ -382,9 +386,12 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
         result = render_passes(scene, n, seed=seed, spp_per_pass=spp_per_pass)
     except UserError as e:
         return {"error": str(e)}
-    return {"image": np.ascontiguousarray(as_rgb(result.image)), "spp": result.spp,
-            "seconds": time.perf_counter() - start, "render_seconds": result.seconds,
-            "nonfinite": result.nonfinite}
+    spp_done, render_seconds, nonfinite = result.spp, result.seconds, result.nonfinite
+    image = np.array(as_rgb(result.image), dtype=np.float32)  # a copy (see render_pass)
+    del result
+    return {"image": image, "spp": spp_done,
+            "seconds": time.perf_counter() - start, "render_seconds": render_seconds,
+            "nonfinite": nonfinite}
 
 
 # ---------------------------------------------------------------- on the client
