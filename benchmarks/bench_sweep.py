@@ -4,7 +4,7 @@ Three ways to make the same 16 images (4 max_depth values x 4 seeds, EXR + PNG e
 
 * loop: one process, load + render (``render_passes``) + write, one image after another,
   Dr.Jit on all cores;
-* sweep, 1 worker x all threads: ``spectrace.sweep.run`` on a LocalCluster of one worker
+* sweep, 1 worker x all threads: ``spectrace.sweeps.run`` on a LocalCluster of one worker
   process whose Dr.Jit pool has all the cores;
 * sweep, 2 workers x 1 thread: two worker processes, one Dr.Jit thread each.
 
@@ -39,15 +39,16 @@ AIM = 1.1
 
 
 def grid(res: int, spp: int):
-    from spectrace import sweep
+    from spectrace import sweeps
 
-    return sweep.Grid.make(SCENE, {"res": str(res), "max_depth": list(DEPTHS)},
+    return sweeps.Grid.make(SCENE, {"res": str(res), "max_depth": list(DEPTHS)},
                            variants=VARIANT, seeds=list(SEEDS), spp=spp)
 
 
 def run_loop(g, outdir: Path) -> tuple[float, float]:
     """What 16 calls of `spectrace render` do, in one process (no start-up):
     (wall seconds, CPU seconds of the process)."""
+    from spectrace import sweeps
     from spectrace.images import write_exr, write_png
     from spectrace.passes import render_passes
     from spectrace.scene import load_scene
@@ -56,7 +57,7 @@ def run_loop(g, outdir: Path) -> tuple[float, float]:
     for combo in g.combinations():
         scene = load_scene(SCENE, combo.defines)
         rgb = render_passes(scene, g.spp, seed=combo.seed).image[..., :3]
-        exr = outdir / f"{combo.stem()}.exr"
+        exr = outdir / f"{sweeps.stem(combo)}.exr"
         write_png(exr.with_suffix(".png"), rgb)
         write_exr(exr, rgb, {"spp": g.spp, "seed": combo.seed})
     return time.perf_counter() - start, time.process_time() - cpu
@@ -72,25 +73,25 @@ class SweepRunner:
     def __init__(self, workers: int, g, outdir: Path):
         from distributed import Client
 
-        from spectrace import cluster, sweep
+        from spectrace import cluster, sweeps
 
         self.local = cluster.start_local(workers)
         self.client = Client(self.local, set_as_default=False)
         cluster.setup_workers(self.client, variant=VARIANT)
-        warm = sweep.Grid.make(SCENE, {"res": g.params["res"], "max_depth": list(DEPTHS)},
+        warm = sweeps.Grid.make(SCENE, {"res": g.params["res"], "max_depth": list(DEPTHS)},
                                variants=VARIANT, seeds=[99], spp=g.spp)
-        sweep.run(warm, self.client, outdir / "warm")  # every worker loads its kernels
+        sweeps.run(warm, self.client, outdir / "warm")  # every worker loads its kernels
         self.g, self.outdir, self.rounds = g, outdir, 0
         self.client_cpu: list[float] = []  # CPU s of the client process (and its scheduler)
 
     def __call__(self) -> tuple[float, float]:
         """(wall seconds, CPU seconds of the client, its scheduler and the workers)."""
-        from spectrace import sweep
+        from spectrace import sweeps
 
         self.rounds += 1
         workers = sum(self.client.run(_worker_cpu).values())
         start, cpu = time.perf_counter(), time.process_time()
-        outcomes = sweep.run(self.g, self.client, self.outdir / f"run{self.rounds}")
+        outcomes = sweeps.run(self.g, self.client, self.outdir / f"run{self.rounds}")
         seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
         self.client_cpu.append(cpu)
         cpu += sum(self.client.run(_worker_cpu).values()) - workers

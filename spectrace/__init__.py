@@ -13,7 +13,8 @@ DEFAULT_VARIANT = "llvm_ad_spectral"
 #: The variants spectrace works in (rgb, mono, spectral and their _polarized forms of each).
 JIT_VARIANT_PREFIXES = ("llvm_ad_", "cuda_ad_")
 
-__all__ = ["DEFAULT_VARIANT", "RenderResult", "SpectraceError", "render", "set_variant"]
+__all__ = ["DEFAULT_VARIANT", "RenderResult", "SpectraceError", "check_variant", "render",
+           "set_variant", "sweep"]
 
 from spectrace.errors import ParameterError, SetupError, SpectraceError  # noqa: E402
 
@@ -34,6 +35,25 @@ def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
     starts as fast as with Mitsuba's ``mitsuba`` executable. Code that then builds plugins
     itself (``mi.load_dict``) registers them first: ``spectrace.registry.require({"phong"})``.
     """
+    check_variant(name)
+    from spectrace.signals import defer_sigint
+
+    with defer_sigint():
+        _set_variant(name, lazy)
+
+
+def supported_variants() -> list[str]:
+    """Mitsuba's variants that spectrace works in (the JIT ones)."""
+    import mitsuba as mi
+
+    return [v for v in mi.variants() if v.startswith(JIT_VARIANT_PREFIXES)]
+
+
+def check_variant(name: str) -> None:
+    """Raise :class:`~spectrace.errors.ParameterError` unless ``name`` is a variant
+    spectrace can run (one of Mitsuba's JIT variants), :class:`~spectrace.errors.SetupError`
+    when an LLVM variant finds no libLLVM >= 16 (set up here before mitsuba is first
+    imported). Sets no variant: the one check :func:`set_variant` and the sweeps share."""
     if "mitsuba" not in sys.modules or name.startswith("llvm"):
         from spectrace.llvm import configure_libllvm
 
@@ -45,18 +65,7 @@ def set_variant(name: str = DEFAULT_VARIANT, *, lazy: bool = False) -> None:
     from spectrace.signals import defer_sigint
 
     with defer_sigint():  # Ctrl-C inside Mitsuba's import is raised after it
-        _set_variant(name, lazy)
-
-
-def supported_variants() -> list[str]:
-    """Mitsuba's variants that spectrace works in (the JIT ones)."""
-    import mitsuba as mi
-
-    return [v for v in mi.variants() if v.startswith(JIT_VARIANT_PREFIXES)]
-
-
-def _set_variant(name: str, lazy: bool) -> None:
-    import mitsuba as mi
+        import mitsuba as mi
 
     if name not in mi.variants():
         raise ParameterError(f"unknown variant {name!r}; available: "
@@ -66,6 +75,11 @@ def _set_variant(name: str, lazy: bool) -> None:
             f"variant {name!r} is not supported: spectrace's plugins are vectorized Dr.Jit "
             f"code for the JIT variants; use one of {', '.join(supported_variants())}"
         )
+
+
+def _set_variant(name: str, lazy: bool) -> None:
+    import mitsuba as mi
+
     from spectrace import registry
 
     if mi.variant() != name:
@@ -96,7 +110,8 @@ def __getattr__(name):
 
     ``spectrace.render(scene, spp=..., seed=..., spp_per_pass=...)`` is the pass loop
     (:func:`spectrace.passes.render_passes`) and ``RenderResult`` its result;
-    ``spectrace.sweep(scene, ...)`` imports Dask.
+    ``spectrace.sweep(scene, params={...})`` is :func:`spectrace.sweeps.sweep` (it imports
+    Dask and xarray when called).
     """
     if name in ("render", "RenderResult"):
         from spectrace.passes import RenderResult, render_passes
@@ -104,7 +119,8 @@ def __getattr__(name):
         globals().update(render=render_passes, RenderResult=RenderResult)
         return globals()[name]
     if name == "sweep":
-        import spectrace.sweep as module  # a callable module: spectrace.sweep(scene, ...)
+        from spectrace.sweeps import sweep
 
-        return module
+        globals()["sweep"] = sweep
+        return sweep
     raise AttributeError(f"module 'spectrace' has no attribute {name!r}")

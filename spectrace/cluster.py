@@ -11,8 +11,13 @@ plugin once, when it starts (and again if it is restarted after dying):
   do not oversubscribe it;
 * SIGINT is ignored (a Ctrl-C in the terminal reaches every process of the group: the
   client cancels the work, the workers must not die of it);
-* the variant is set and the spectrace plugins registered (:func:`ensure_variant`, once per
-  process and variant).
+* the variant is set, lazily (:func:`ensure_variant`, once per process and variant): each
+  scene registers the plugins it names as it loads.
+
+Local workers are forked from a *fork server* (:data:`FORKSERVER_PRELOAD`), which imports
+Dask and spectrace once for all of them (a spawned worker imports them itself: about a
+second of CPU each), and none of them runs the user's main script
+(:func:`main_script_hidden`).
 
 Kernel cache: Dr.Jit keeps compiled kernels in ``~/.drjit``; local workers inherit the
 client's environment (``HOME``, ``DRJIT_LIBLLVM_PATH``), so they share one cache folder and
@@ -23,7 +28,9 @@ scene file and its assets readable at the *same absolute path* as on the client 
 the scene by its path; images travel back to the client, which writes every output file,
 so no shared folder is needed for the outputs).
 
-The task functions (:func:`render_image`, :func:`render_pass`) run on the workers.
+The task functions (:func:`render_image`, :func:`render_pass`) run on the workers;
+:func:`render_passes_distributed` is the pass loop of :mod:`spectrace.passes` with its
+passes as tasks (this module builds on :mod:`spectrace.passes`, never the reverse).
 """
 
 from __future__ import annotations
@@ -32,16 +39,19 @@ import contextlib
 import logging
 import os
 import signal
+import sys
 import threading
 import time
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from spectrace.errors import ParameterError, SpectraceError, first_line
+from spectrace.passes import RenderResult, pass_seed, pass_sizes, render_passes, scene_spp
+from spectrace.signals import defer_sigint
 
 #: Worker processes of the default LocalCluster. Measured on the 2-core development machine
 #: with benchmarks/bench_sweep.py (small renders): two single-threaded workers beat one
@@ -54,6 +64,11 @@ CONNECT_TIMEOUT_S = 10
 RETRIES = 2
 PLUGIN_NAME = "spectrace-setup"
 
+#: What the fork server of local workers imports before it forks them. Not Mitsuba: each
+#: worker imports it after pointing Dr.Jit at the libLLVM (:func:`spectrace.set_variant`),
+#: and nothing is forked from a process that holds Dr.Jit's threads.
+FORKSERVER_PRELOAD = ("distributed", "numpy", "spectrace.cluster")
+_POLL_S = 0.02  # how often the distributed pass loop looks for finished passes
 _LOGGERS = ("distributed", "tornado", "asyncio", "bokeh")
 
 
@@ -84,13 +99,58 @@ def _check_workers(workers: int | None) -> int:
     return n
 
 
-def start_local(workers: int | None = None, dr_threads: int | None = None):
-    """A LocalCluster of ``workers`` processes, one Dask thread each, quiet."""
+@contextlib.contextmanager
+def main_script_hidden():
+    """While inside, worker processes started by ``multiprocessing`` (Dask's nannies use its
+    *spawn* method) do not run the user's main script.
+
+    A spawned child imports the parent's ``__main__`` (its ``__file__``, or the module of
+    ``__spec__`` for ``python -m``) as ``__mp_main__`` before it runs anything, so a plain
+    script that calls :func:`spectrace.sweep` without ``if __name__ == "__main__":`` ran
+    its top level again in every worker, whose nested cluster then failed ("Nanny failed
+    to start"). The workers need nothing of that script (their tasks are spectrace
+    functions), so both attributes are set aside here and restored on exit. A main module
+    without them (Jupyter, ``python -c``) is left alone."""
+    main = sys.modules.get("__main__")
+    saved = {name: main.__dict__[name] for name in ("__file__", "__spec__")
+             if main is not None and main.__dict__.get(name) is not None}
+    main.__dict__.pop("__file__", None)
+    if "__spec__" in saved:
+        main.__spec__ = None  # (spawn reads the attribute: it must exist)
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            setattr(main, name, value)
+
+
+@contextlib.contextmanager
+def forkserver():
+    """While inside, Dask's nannies start their workers from a fork server that has
+    imported :data:`FORKSERVER_PRELOAD` (the server starts with the first worker and lives
+    as long as this process)."""
+    import multiprocessing
+
+    import dask
+
+    with dask.config.set({"distributed.worker.multiprocessing-method": "forkserver"}):
+        from distributed.utils import get_mp_context
+
+        get_mp_context()  # Dask's own preload list, set once; then this one
+        multiprocessing.get_context("forkserver").set_forkserver_preload(
+            list(FORKSERVER_PRELOAD))
+        yield
+
+
+def start_local(workers: int | None = None):
+    """A LocalCluster of ``workers`` processes, one Dask thread each, quiet; its workers do
+    not run the user's main script (:func:`main_script_hidden`, while they start: use
+    :func:`connect` to keep that for the cluster's life, as when a worker is restarted)."""
     from distributed import LocalCluster
 
     n = _check_workers(workers)
     quiet_logs()
-    with _sigint_ignored(), warnings.catch_warnings():
+    with _sigint_ignored(), warnings.catch_warnings(), main_script_hidden(), forkserver():
         # another cluster on this machine holds port 8787: the scheduler's HTTP server
         # (health checks; the dashboard is off) takes another port and says so
         warnings.filterwarnings("ignore", message="Port .* is already in use")
@@ -117,24 +177,29 @@ def connect(workers: int | None = None, scheduler: str | None = None, *,
         raise ParameterError("workers and scheduler exclude each other")
     quiet_logs()
     cluster = None
-    if scheduler:
-        check_address(scheduler)
+    with contextlib.ExitStack() as stack:
+        if scheduler:
+            check_address(scheduler)
+            try:
+                timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
+                client = Client(scheduler, timeout=timeout, set_as_default=False)
+            except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
+                raise ParameterError(f"cannot reach scheduler {scheduler}: {first_line(e)}") \
+                    from None
+        else:
+            # also when a nanny restarts a worker
+            stack.enter_context(main_script_hidden())
+            stack.enter_context(forkserver())
+            cluster = start_local(workers)
+            client = Client(cluster, set_as_default=False)
         try:
-            timeout = CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout
-            client = Client(scheduler, timeout=timeout, set_as_default=False)
-        except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
-            raise ParameterError(f"cannot reach scheduler {scheduler}: {first_line(e)}") from None
-    else:
-        cluster = start_local(workers)
-        client = Client(cluster, set_as_default=False)
-    try:
-        setup_workers(client, variant=variant, dr_threads=dr_threads)
-        yield client
-    finally:
-        with _sigint_ignored():
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            setup_workers(client, variant=variant, dr_threads=dr_threads)
+            yield client
+        finally:
+            with _sigint_ignored():
+                client.close()
+                if cluster is not None:
+                    cluster.close()
 
 
 def check_address(address: str) -> None:
@@ -191,16 +256,9 @@ class Setup(_WorkerPlugin):
         quiet_logs()
         threads = self.dr_threads or dr_thread_share(
             self.workers_per_host.get(get_address_host(worker.address), 1))
-        _state.dr_threads = threads
+        _state.dr_threads = threads  # applied by ensure_variant, now or at the first task
         if self.variant:
             ensure_variant(self.variant)
-        else:
-            from spectrace.llvm import configure_libllvm
-
-            configure_libllvm()
-        import drjit as dr
-
-        dr.set_thread_count(threads)
 
 
 @dataclass
@@ -216,12 +274,14 @@ _SCENE_CACHE_SIZE = 2
 
 
 def ensure_variant(variant: str) -> None:
-    """Set ``variant`` and register the plugins, unless this process already did."""
+    """Set ``variant``, unless this process already did: lazily, as the command line does
+    (each scene registers the plugins it names as it loads: a worker does not execute
+    every plugin and Mitsuba's Python integrators at start-up)."""
     if _state.variant == variant:
         return
     import spectrace
 
-    spectrace.set_variant(variant)
+    spectrace.set_variant(variant, lazy=True)
     _state.variant = variant
     _state.setups += 1
     _state.scenes.clear()
@@ -298,11 +358,13 @@ def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> tuple[np.ndar
     """
     import mitsuba as mi
 
-    from spectrace.passes import pass_seed, scene_spp
-
     scene = _cached_scene(spec)
     img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
-    return np.asarray(img, dtype=np.float32), scene_spp(scene)
+    # a copy, and the tensor freed here: a view would keep it alive until the worker's
+    # event loop drops the sent result, and Dr.Jit's frees there contend with the next pass
+    image = np.array(img, dtype=np.float32)
+    del img
+    return image, scene_spp(scene)
 
 
 def render_image(spec: SceneSpec, spp: int | None, seed: int,
@@ -315,7 +377,6 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
     answer, not a failure Dask should retry.
     """
     from spectrace.images import as_rgb
-    from spectrace.passes import render_passes, scene_spp
 
     start = time.perf_counter()
     try:
@@ -324,6 +385,89 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
         result = render_passes(scene, n, seed=seed, spp_per_pass=spp_per_pass)
     except SpectraceError as e:
         return {"error": str(e)}
-    return {"image": np.ascontiguousarray(as_rgb(result.image)), "spp": result.spp,
-            "seconds": time.perf_counter() - start, "render_seconds": result.seconds,
-            "nonfinite": result.nonfinite}
+    spp_done, render_seconds, nonfinite = result.spp, result.seconds, result.nonfinite
+    image = np.array(as_rgb(result.image), dtype=np.float32)  # a copy (see render_pass)
+    del result
+    return {"image": image, "spp": spp_done,
+            "seconds": time.perf_counter() - start, "render_seconds": render_seconds,
+            "nonfinite": nonfinite}
+
+
+# ---------------------------------------------------------------- on the client
+
+def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:
+    """The numpy mean image from the sample-weighted float64 sum ``accum`` of ``done``
+    samples."""
+    image = (accum / done).astype(np.float32)
+    bad = ~np.isfinite(image)
+    nonfinite = int(bad.sum())
+    if nonfinite:  # never a NaN in an image: zero them and report the count
+        image[bad] = 0.0
+    return RenderResult(image, done, passes, seconds, interrupted, nonfinite)
+
+
+def render_passes_distributed(
+    client,
+    spec,
+    spp: int,
+    seed: int = 0,
+    spp_per_pass: int = 16,
+    on_pass: Callable[[int, int], None] | None = None,
+    window: int | None = None,
+) -> RenderResult:
+    """:func:`spectrace.passes.render_passes` with its passes as tasks on ``client``'s workers.
+
+    ``spec`` is a :class:`SceneSpec` (what each worker loads); the client does not load
+    the scene, so the pass size is given (the command line gives
+    :func:`~spectrace.passes.scene_spp_per_pass` of the scene it loaded, the local loop's
+    default). Pass ``index`` has the local loop's seed
+    :func:`~spectrace.passes.pass_seed` ``(seed, index)`` and sample count, and the passes
+    are summed in index order with weights equal to their sample counts, so the image
+    equals the local render's (up to the film's float additions).
+    At most ``window`` passes (default: twice the workers' threads) are outstanding at a
+    time. A SIGINT (Ctrl-C) cancels the outstanding passes and returns the mean of the
+    passes done (``interrupted`` set). A pass whose worker dies is run again elsewhere.
+    The result's ``pixels`` are a numpy array (the workers send numpy arrays).
+    """
+    from distributed import as_completed
+
+    sizes = pass_sizes(spp, spp_per_pass)
+    if window is None:
+        threads = sum(w.get("nthreads", 1) for w in
+                      client.scheduler_info(n_workers=-1)["workers"].values())
+        window = 2 * max(1, threads)
+    images: dict[int, np.ndarray] = {}
+    ready = as_completed(loop=client.loop)
+    pending: dict = {}  # future -> pass index
+    next_index = 0
+    done = 0
+    start = time.perf_counter()
+    with defer_sigint(stop_only=True) as stop:
+        while (pending or next_index < len(sizes)) and not stop.seen:
+            while next_index < len(sizes) and len(pending) < window:
+                future = client.submit(render_pass, spec, seed, next_index, sizes[next_index],
+                                       pure=False, retries=RETRIES)
+                pending[future] = next_index
+                ready.add(future)
+                next_index += 1
+            if not ready.has_ready():
+                time.sleep(_POLL_S)
+                continue
+            for future in ready.next_batch(block=False):
+                index = pending.pop(future)
+                images[index], taken = future.result()  # a task's own error propagates
+                sizes[index] = taken  # the count the worker's sampler took
+                done += taken
+                if on_pass is not None:
+                    on_pass(done, spp)
+        if pending:
+            client.cancel(list(pending))
+        interrupted = stop.seen and done < spp
+    seconds = time.perf_counter() - start
+    if not images:  # stopped before the first pass finished: nothing to average
+        return RenderResult(np.zeros((0, 0, 3), np.float32), 0, 0, seconds, True)
+    accum = None
+    for index in sorted(images):
+        img = np.asarray(images[index], dtype=np.float64) * sizes[index]
+        accum = img if accum is None else accum + img
+    return _mean_of(accum, done, len(images), seconds, interrupted)

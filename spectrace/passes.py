@@ -21,6 +21,8 @@ boundary after that wall time; ``spp`` is then the most it renders.
 The local loop sums the passes in Dr.Jit (float64) and never imports numpy: a render's
 pixels stay a Dr.Jit tensor (:attr:`RenderResult.pixels`) until someone asks for the numpy
 array (:attr:`RenderResult.image`), so the command line starts as fast as ``mitsuba``.
+The same loop with its passes on a Dask cluster is
+:func:`spectrace.cluster.render_passes_distributed` (which builds on this module).
 """
 
 from __future__ import annotations
@@ -40,7 +42,6 @@ PASS_SAMPLES = 2**22
 #: (seeds 0 and 1) differ by a relative RMS of 0.021, 0.019, 0.024 and 0.032 with passes of
 #: 16, 64, 256 and 1024 spp.
 MAX_SPP_PER_PASS = 64
-_POLL_S = 0.02  # how often the distributed loop looks for finished passes
 _SEED_STRIDE = 0x9E3779B1  # golden-ratio stride: passes of nearby seeds never share seeds
 #: ``noise``: the estimate is trusted from this many passes on (the spread of fewer passes
 #: says little: its relative uncertainty is about 1 / sqrt(2 (passes - 1))).
@@ -337,85 +338,3 @@ def render_passes(
     if light_groups is not None:
         result.light_groups = list(integrator.names)
     return result
-
-
-def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:
-    """The numpy mean image from the sample-weighted float64 sum ``accum`` of ``done``
-    samples (the distributed loop)."""
-    import numpy as np
-
-    image = (accum / done).astype(np.float32)
-    bad = ~np.isfinite(image)
-    nonfinite = int(bad.sum())
-    if nonfinite:  # never a NaN in an image: zero them and report the count
-        image[bad] = 0.0
-    return RenderResult(image, done, passes, seconds, interrupted, nonfinite)
-
-
-def render_passes_distributed(
-    client,
-    spec,
-    spp: int,
-    seed: int = 0,
-    spp_per_pass: int = 16,
-    on_pass: Callable[[int, int], None] | None = None,
-    window: int | None = None,
-) -> RenderResult:
-    """:func:`render_passes` with its passes run as tasks on a Dask ``client``'s workers.
-
-    ``spec`` is a :class:`spectrace.cluster.SceneSpec` (what each worker loads); the
-    client does not load the scene, so the pass size is given (the command line gives
-    :func:`scene_spp_per_pass` of the scene it loaded, the local loop's default). Pass
-    ``index`` has the local loop's seed :func:`pass_seed(seed, index) <pass_seed>` and sample
-    count, and the passes are summed in index order with weights equal to their sample
-    counts, so the image equals the local render's (up to the film's float additions).
-    At most ``window`` passes (default: twice the workers' threads) are outstanding at a
-    time. A SIGINT (Ctrl-C) cancels the outstanding passes and returns the mean of the
-    passes done (``interrupted`` set). A pass whose worker dies is run again elsewhere.
-    The result's ``pixels`` are a numpy array (the workers send numpy arrays).
-    """
-    import numpy as np
-    from distributed import as_completed
-
-    from spectrace.cluster import RETRIES, render_pass
-
-    sizes = pass_sizes(spp, spp_per_pass)
-    if window is None:
-        threads = sum(w.get("nthreads", 1) for w in
-                      client.scheduler_info(n_workers=-1)["workers"].values())
-        window = 2 * max(1, threads)
-    images: dict[int, np.ndarray] = {}
-    ready = as_completed(loop=client.loop)
-    pending: dict = {}  # future -> pass index
-    next_index = 0
-    done = 0
-    start = time.perf_counter()
-    with defer_sigint(stop_only=True) as stop:
-        while (pending or next_index < len(sizes)) and not stop.seen:
-            while next_index < len(sizes) and len(pending) < window:
-                future = client.submit(render_pass, spec, seed, next_index, sizes[next_index],
-                                       pure=False, retries=RETRIES)
-                pending[future] = next_index
-                ready.add(future)
-                next_index += 1
-            if not ready.has_ready():
-                time.sleep(_POLL_S)
-                continue
-            for future in ready.next_batch(block=False):
-                index = pending.pop(future)
-                images[index], taken = future.result()  # a task's own error propagates
-                sizes[index] = taken  # the count the worker's sampler took
-                done += taken
-                if on_pass is not None:
-                    on_pass(done, spp)
-        if pending:
-            client.cancel(list(pending))
-        interrupted = stop.seen and done < spp
-    seconds = time.perf_counter() - start
-    if not images:  # stopped before the first pass finished: nothing to average
-        return RenderResult(np.zeros((0, 0, 3), np.float32), 0, 0, seconds, True)
-    accum = None
-    for index in sorted(images):
-        img = np.asarray(images[index], dtype=np.float64) * sizes[index]
-        accum = img if accum is None else accum + img
-    return _mean_of(accum, done, len(images), seconds, interrupted)

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import cluster
-from spectrace.cluster import SceneSpec
-from spectrace.passes import render_passes, render_passes_distributed
+from spectrace.cluster import SceneSpec, render_passes_distributed
+from spectrace.passes import render_passes
 
 ROOT = Path(__file__).resolve().parents[1]
 SHOWCASE = ROOT / "scenes" / "showcase.xml"
@@ -91,3 +91,33 @@ def test_a_worker_killed_mid_render_loses_nothing(client):
     assert pids[0] not in client.run(os.getpid).values()  # it did die
     np.testing.assert_allclose(remote.image, local_render(32, 11, 4).image,
                                rtol=SAME_SEED_RTOL, atol=SAME_SEED_ATOL)
+
+
+#: A plain script (no ``if __name__ == "__main__":``), as in the README: it starts a cluster of
+#: two workers at its top level and prints what it rendered and its own ``__file__``.
+PLAIN_SCRIPT = """
+import spectrace
+print("top level ran", flush=True)
+da = spectrace.sweep({scene!r}, params={{"res": 8, "max_depth": [1, 2]}}, variants={variant!r},
+                     spp=1, workers=2)
+print("shape", da.shape, "file", __file__)
+"""
+#: Seconds a plain script's sweep of two 8 x 8 images may take (start-up of two workers).
+PLAIN_SCRIPT_LIMIT_S = 240
+
+
+def test_a_plain_script_sweeps_without_a_main_guard(tmp_path):
+    """Worker processes are spawned without running the user's main script: a script that
+    calls spectrace.sweep at its top level runs it once (it ran three times and failed with
+    'Nanny failed to start'), gets its images and keeps its __file__."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "plain.py"
+    script.write_text(PLAIN_SCRIPT.format(scene=str(SHOWCASE), variant=VARIANT))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=PLAIN_SCRIPT_LIMIT_S)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.count("top level ran") == 1, done.stdout
+    assert f"shape (2, 8, 8, 3) file {script}" in done.stdout, done.stdout
+    assert "Traceback" not in done.stderr, done.stderr[-3000:]

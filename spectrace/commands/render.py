@@ -3,7 +3,7 @@
 Several scenes render one after the other in this process (the variant is set and the
 plugins registered once, and Dr.Jit reuses the kernels they share). With ``--workers N`` or
 ``--scheduler ADDRESS`` the passes of each render run on a Dask cluster
-(:func:`spectrace.passes.render_passes_distributed`: the same pass seeds, the same image).
+(:func:`spectrace.cluster.render_passes_distributed`: the same pass seeds, the same image).
 """
 
 from __future__ import annotations
@@ -285,8 +285,8 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
         if client is not None:
-            from spectrace.cluster import SceneSpec
-            from spectrace.passes import render_passes_distributed, scene_spp_per_pass
+            from spectrace.cluster import SceneSpec, render_passes_distributed
+            from spectrace.passes import scene_spp_per_pass
 
             bands = args.bands if args.film == "spectral" else None
             spec = SceneSpec.make(scene_path, params, args.variant, bands)

@@ -1,8 +1,9 @@
 """``spectrace sweep``: render the Cartesian product of a scene's ``<default>`` values.
 
-A thin command over :mod:`spectrace.sweep` (the grid, the files) and
-:mod:`spectrace.cluster` (the Dask cluster): parse, check, render with a progress bar over
-the images, print a summary. Exit status: 0 when every image is there, 1 when some
+A thin command over :mod:`spectrace.sweeps` (the grid, the files) and
+:mod:`spectrace.cluster` (the Dask cluster): parse the options (``-D name=v1,v2``,
+``--variants``, ``--seeds``), check, render with a progress bar over the images, print a
+summary. Exit status: 0 when every image is there, 1 when some
 combinations failed (each is named on stderr; the others are written), 2 for a user's
 mistake found before rendering (nothing written), 130 on Ctrl-C (finished images are kept;
 a re-run skips them).
@@ -47,32 +48,71 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
 
+def parse_sweep_defines(defines: list[str]) -> dict[str, list[str]]:
+    """``["name=v1,v2", ...]`` (``-D`` options) -> ``{name: [v1, v2]}``, in order.
+
+    UsageError for an item without ``=``, an empty name or no values (``-D name=``).
+    A name given twice collects the values of both. ``\\,`` is a comma inside a value
+    (``-D color=0.2\\,0.5\\,0.9,1\\,1\\,1``: two RGB values).
+    """
+    params: dict[str, list[str]] = {}
+    for item in defines or []:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise UsageError(f"-D {item!r}: expected name=v1,v2,...")
+        values = [v.strip() for v in split_values(text) if v.strip()]
+        if not values:
+            raise UsageError(f"-D {name}=: no values (give name=v1,v2,...)")
+        params.setdefault(name, []).extend(v for v in values if v not in params.get(name, []))
+    return params
+
+
+def split_values(text: str) -> list[str]:
+    """``text`` split at its commas, except those escaped as ``\\,`` (kept as commas)."""
+    return [v.replace("\0", ",") for v in text.replace("\\,", "\0").split(",")]
+
+
+def parse_list(text: str | None, option: str, kind=str) -> list | None:
+    """A comma-separated option (``--seeds 0,1``) as a list of ``kind``; None if not given."""
+    if text is None:
+        return None
+    items = [t.strip() for t in text.split(",") if t.strip()]
+    if not items:
+        raise UsageError(f"{option}: no values")
+    try:
+        return [kind(t) for t in items]
+    except ValueError:
+        raise UsageError(f"{option} {text!r}: expected {kind.__name__} values separated by "
+                         "commas") from None
+
+
 def run(args) -> int:
-    from spectrace import sweep
+    from spectrace import sweeps
     from spectrace.cluster import connect
 
-    params = sweep.parse_sweep_defines(args.defines)
-    variants = sweep.parse_list(args.variants, "--variants")
-    seeds = sweep.parse_list(args.seeds, "--seeds", int)
+    params = parse_sweep_defines(args.defines)
+    variants = parse_list(args.variants, "--variants")
+    seeds = parse_list(args.seeds, "--seeds", int)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
-    grid = sweep.Grid.make(args.scene, params, variants, seeds, args.spp, args.spp_per_pass)
+    grid = sweeps.Grid.make(args.scene, params, variants, seeds, args.spp, args.spp_per_pass)
     outdir = Path(args.output) if args.output else Path("out") / f"sweep-{grid.scene.stem}"
-    sweep.check_outdir(outdir, create=False)  # before starting a cluster
-    outcomes = sweep.plan(grid, outdir)
+    sweeps.check_outdir(outdir, create=False)  # before starting a cluster
+    outcomes = sweeps.plan(grid, outdir)
     todo = sum(o.status != "skipped" for o in outcomes)
     shape = " x ".join(str(n) for n in grid.shape) or "1"
     heading = (f"sweeping {grid.scene.name}: {len(outcomes)} images ({shape}), {todo} to "
                f"render -> {outdir}")
     if not todo:  # nothing to render: no cluster
         print(heading, file=sys.stderr, flush=True)
-        outcomes = sweep.run(grid, None, outdir, outcomes=outcomes)
+        outcomes = sweeps.run(grid, None, outdir, outcomes=outcomes)
     else:
         try:
             with connect(args.workers, args.scheduler, variant=grid.variants[0]) as client:
                 workers = len(client.scheduler_info(n_workers=-1)["workers"])
                 print(f"{heading} on {workers} workers", file=sys.stderr, flush=True)
-                outcomes = _run_with_progress(sweep, grid, client, outdir, outcomes,
+                outcomes = _run_with_progress(sweeps, grid, client, outdir, outcomes,
                                               args.quiet)
         except KeyboardInterrupt:
             done = sum(o.status in ("rendered", "skipped") for o in outcomes)
@@ -84,17 +124,17 @@ def run(args) -> int:
     seconds = sum(o.seconds for o in outcomes if o.status == "rendered")
     print(f"{grid.scene.name}: {counts['rendered']} rendered ({seconds:.2f} s of renders), "
           f"{counts['skipped']} already done, {counts['failed']} failed -> "
-          f"{outdir / sweep.RESULTS}, {outdir / sweep.SHEET}")
+          f"{outdir / sweeps.RESULTS}, {outdir / sweeps.SHEET}")
     for o in outcomes:
         if o.status == "failed":
             print(f"error: {o.combo.label()}: {o.error}", file=sys.stderr)
     return EXIT_FAILED if counts["failed"] else 0
 
 
-def _run_with_progress(sweep, grid, client, outdir, outcomes, quiet):
+def _run_with_progress(sweeps, grid, client, outdir, outcomes, quiet):
     from spectrace.commands import progress_bar
 
     finished = itertools.count(1)
     with progress_bar(len(outcomes), "images", quiet) as update:
-        return sweep.run(grid, client, outdir, keep_images=False, outcomes=outcomes,
-                         on_image=lambda o: update(next(finished)))
+        return sweeps.run(grid, client, outdir, keep_images=False, outcomes=outcomes,
+                          on_image=lambda o: update(next(finished)))

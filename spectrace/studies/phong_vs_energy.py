@@ -241,9 +241,13 @@ def bounce_series(bsdfs: Sequence[str] | str, depths: Sequence[int], exponent: f
                              variants=variant, seeds=seed, spp=spp, client=client)
     if images.attrs["failed"]:
         raise RuntimeError("bounce_series: " + "; ".join(images.attrs["failed"]))
-    images = images.isel({name: 0 for name in fixed}, drop=True)
+    for dim in ("bsdf", "max_depth"):  # an axis of one value is a scalar coordinate
+        if dim not in images.dims:
+            images = images.expand_dims(dim)
+    images = images.transpose("bsdf", "max_depth", ...)
     Y = luminance(images.values).mean(axis=(-2, -1))  # (bsdf, max_depth)
-    attrs = {k: images.attrs[k] for k in ("spp", "seed", "variant", "scene")}
+    attrs = {"spp": images.attrs["spp"], "scene": images.attrs["scene"],
+             "seed": int(images.seed), "variant": str(images.variant.values)}
     return xr.DataArray(Y, dims=["bsdf", "max_depth"],
                         coords={"bsdf": list(bsdfs), "max_depth": [int(d) for d in depths]},
                         attrs={**attrs, "exponent": float(exponent)}, name="mean luminance")

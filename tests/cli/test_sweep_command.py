@@ -110,22 +110,26 @@ def test_outdir_that_is_a_file_exits_2_before_any_cluster(tmp_path, capsys, monk
     assert a_file.read_text() == "not a folder"
 
 
-def test_escaped_comma_long_values_and_seed_range():
+def test_escaped_comma_long_values_and_seed_range(tmp_path, capsys):
     """`\\,` keeps a comma inside a value (an RGB triple); a value too long for a file name
     gets a short unique stem (it raised 'File name too long'); seeds must fit 32 bits."""
-    from spectrace import sweep
-    from spectrace.errors import ParameterError
+    from spectrace import sweeps
+    from spectrace.commands.sweep import parse_sweep_defines
 
-    params = sweep.parse_sweep_defines([r"color=0.9\,0.1\,0.1,1\,1\,1", "res=8,8,16"])
+    params = parse_sweep_defines([r"color=0.9\,0.1\,0.1,1\,1\,1", "res=8,8,16"])
     assert params == {"color": ["0.9,0.1,0.1", "1,1,1"], "res": ["8", "16"]}
     long_a, long_b = "a" * 400, "a" * 399 + "b"
-    stems = [sweep.Combination((("name", v),), "llvm_ad_rgb", 0).stem()
+    stems = [sweeps.stem(sweeps.Combination((("name", v),), "llvm_ad_rgb", 0))
              for v in (long_a, long_b)]
     assert len(set(stems)) == 2
-    assert all(len(s.encode()) <= sweep.MAX_STEM for s in stems)
+    assert all(len(s.encode()) <= sweeps.files.MAX_STEM for s in stems)
     assert all(s.endswith("_llvm_ad_rgb_seed0") for s in stems)
-    with pytest.raises(ParameterError, match=r"--seeds must be between .* \(got 99999999999\)"):
-        sweep.Grid.make(SHOWCASE, {"res": [8]}, VARIANT, [99999999999])
+    out = tmp_path / "sweep"
+    code = main(["sweep", str(SHOWCASE), "-D", "res=8", "--seeds", "99999999999", "-o",
+                 str(out), "-q"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "seeds must be between", "(got 99999999999)")
+    assert not out.exists()
 
 
 def test_ctrl_c_says_how_many_images_are_kept(tmp_path, capsys, monkeypatch):
