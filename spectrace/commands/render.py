@@ -161,10 +161,6 @@ def run(args) -> int:
     import spectrace
 
     spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
-    if args.threads is not None:
-        import drjit as dr
-
-        dr.set_thread_count(args.threads)  # spectrace.images writes with 2 or more
     loaded = []  # every scene loads before anything renders: a bad one costs no output
     for scene_path, root in zip(scene_paths, roots, strict=True):
         wavelengths = None
@@ -197,6 +193,8 @@ def run(args) -> int:
 
             client = stack.enter_context(connect(args.workers, args.scheduler,
                                                  variant=args.variant))
+        if args.threads is not None:
+            stack.enter_context(_thread_count(args.threads))
         for paths in all_paths:  # before rendering: a bad output path costs no render time
             for p in paths.values():
                 check_writable(p)
@@ -210,6 +208,22 @@ def run(args) -> int:
     if len(scene_paths) > 1:
         print(f"total: {len(scene_paths)} scenes in {time.perf_counter() - start:.2f} s")
     return 0
+
+
+@contextlib.contextmanager
+def _thread_count(threads: int):
+    """Dr.Jit's pool at ``threads`` threads while the scenes render, as it was after (a
+    command called in-process leaves no pool of 1 behind). Set after the scenes load:
+    Mitsuba's bundled OpenEXR reads (an ``envmap``'s image) and writes on that pool and
+    hangs in a pool of one thread (``spectrace.images`` writes with at least 2)."""
+    import drjit as dr
+
+    before = dr.thread_count()
+    dr.set_thread_count(threads)
+    try:
+        yield
+    finally:
+        dr.set_thread_count(before)
 
 
 def _check_run_options(args) -> None:

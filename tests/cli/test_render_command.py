@@ -306,3 +306,30 @@ def test_one_pass_is_reported_in_the_singular(tmp_path, capsys):
                  "--spp-per-pass", "4", "-q", "--variant", "llvm_ad_rgb"])
     assert code == 0
     assert "in 1 pass," in capsys.readouterr().out
+
+
+#: Seconds a one-thread render of a small envmap scene may take before it counts as hung.
+ONE_THREAD_TIMEOUT_S = 120
+
+
+def test_threads_option_leaves_the_pool_as_it_was(tmp_path):
+    """-t 1 renders with one thread and gives Dr.Jit's pool back as it was: a command run
+    in-process leaves no pool of one thread behind (Mitsuba's EXR reader and writer hang
+    in one)."""
+    import drjit as dr
+
+    before = dr.thread_count()
+    assert render(tmp_path, "-t", "1")[0] == 0
+    assert dr.thread_count() == before
+
+
+def test_one_thread_render_of_an_envmap_scene_finishes(tmp_path):
+    """-t 1 on a scene whose envmap is an EXR: the image loads before the pool shrinks
+    (Mitsuba's bundled OpenEXR reads on the pool and waits forever in a pool of one)."""
+    out = tmp_path / "env.exr"
+    run = subprocess.run(
+        [sys.executable, "-m", "spectrace.cli", "render", str(ROOT / "scenes" / "environment.xml"),
+         "-D", "res=16", "--spp", "4", "-t", "1", "-q", "-o", str(out)],
+        capture_output=True, text=True, timeout=ONE_THREAD_TIMEOUT_S)
+    assert run.returncode == 0, run.stderr
+    assert out.is_file()
