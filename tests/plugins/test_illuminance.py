@@ -482,8 +482,9 @@ def test_host_array_keeps_kernels_inside_its_memory(variant_rgb):
     """Dr.Jit's LLVM kernels load the last packet of a zero-copy numpy input whole, past
     its end: an array of GUARDED_LENGTH floats ending 16 bytes before an unreadable page
     (as a large numpy allocation may) kills the process (SIGSEGV), while the same values
-    through host_array, its padding ending at that page, are read in bounds and right (every ray from x = 0.5 meets the unit square).
-    (Run in subprocesses: a crash is a failure here, not the end of pytest.)"""
+    through host_array, its padding ending at that page, are read in bounds and right
+    (every ray from x = 0.5 meets the unit square). (Run in subprocesses: a crash is a
+    failure here, not the end of pytest.)"""
     from spectrace.plugins.integrators.illuminance import PACKET_PADDING, host_array
 
     values = np.arange(GUARDED_LENGTH, dtype=np.float64)
