@@ -145,6 +145,31 @@ REFERENCE_RAYS = 16
 REFERENCE_DISTANCES = (1e-3, 1e-2, 1e-1, 1.0)
 #: The scene's up axis (DESIGN.md: +Y), the axis of the cylinders of E_z and E_sc.
 UP = (0.0, 1.0, 0.0)
+#: Elements a host array handed to Dr.Jit is padded to a multiple of (see
+#: :func:`host_array`): a multiple of the widest packet of Dr.Jit's LLVM kernels (16 lanes
+#: with AVX-512; 64 leaves room for wider targets).
+PACKET_PADDING = 64
+
+
+def host_array(values, dtype="float32"):
+    """``values`` as a 1-D numpy array of ``dtype`` that Dr.Jit's LLVM backend may map
+    without copying: a view of the first len(values) elements of a zero-padded buffer
+    whose length is a multiple of PACKET_PADDING.
+
+    Dr.Jit 1.5 maps a contiguous numpy array into an LLVM-backend array without a copy,
+    and its kernels load every packet of an input whole (``vmovups`` of 16 lanes with
+    AVX-512), the last one too: a kernel reads up to 15 elements past the end of a mapped
+    array of a length that is no multiple of the packet. Dr.Jit's own allocations are
+    padded for that; numpy's are not, and a large one (allocated with ``mmap``) may end
+    16 bytes before an unmapped page: the over-read then kills the process (SIGSEGV),
+    depending on the array's length and on what lies after it in memory. The padding
+    keeps every packet inside memory the array owns (the extra lanes are masked)."""
+    import numpy as np
+
+    values = np.ascontiguousarray(values, dtype=dtype).reshape(-1)
+    buffer = np.zeros(max(-(-len(values) // PACKET_PADDING), 1) * PACKET_PADDING, dtype)
+    buffer[:len(values)] = values
+    return buffer[:len(values)]
 
 
 def _planar(n, d):
@@ -213,15 +238,16 @@ def luminous_factors(scene):
     ray_index, distance = ref % REFERENCE_RAYS, np.asarray(REFERENCE_DISTANCES)[
         ref // REFERENCE_RAYS]
     # stratified emitted rays, the same for every wavelength group of a reference
-    u = ((ray_index + 0.5) / REFERENCE_RAYS).astype(np.float32)
-    v = np.modf((ray_index + 0.5) * 0.6180339887498949)[0].astype(np.float32)
+    u = mi.Float(host_array((ray_index + 0.5) / REFERENCE_RAYS))
+    v = mi.Float(host_array(np.modf((ray_index + 0.5) * 0.6180339887498949)[0]))
     lanes = padded.reshape(groups, width)[group]
     try:
-        emitter = dr.gather(mi.EmitterPtr, scene.emitters_dr(), mi.UInt32(index))
+        emitter = dr.gather(mi.EmitterPtr, scene.emitters_dr(),
+                            mi.UInt32(host_array(index, "uint32")))
         ray, _ = emitter.sample_ray(0.0, 0.5, mi.Point2f(u, v), mi.Point2f(v, u))
         it = dr.zeros(mi.SurfaceInteraction3f, len(index))
-        it.p = ray(mi.Float(distance.astype(np.float32)))
-        it.wavelengths = mi.UnpolarizedSpectrum(*[mi.Float(lanes[:, k].astype(np.float32))
+        it.p = ray(mi.Float(host_array(distance)))
+        it.wavelengths = mi.UnpolarizedSpectrum(*[mi.Float(host_array(lanes[:, k]))
                                                  for k in range(width)])
         _, weight = emitter.sample_direction(it, mi.Point2f(0.5), True)
         w = np.array(mi.unpolarized_spectrum(weight), dtype=np.float64)  # (width, lanes)
@@ -344,10 +370,8 @@ class Illuminance(mi.SamplingIntegrator):
     def _factors(self, scene):
         """The luminous factors (F, lambda_0) of the scene's lights as Dr.Jit arrays
         (spectral variants), computed at each render: a light's parameters may change."""
-        import numpy as np
-
         F, lam0 = luminous_factors(scene)
-        return mi.Float(F.astype(np.float32)), mi.Float(lam0.astype(np.float32))
+        return mi.Float(host_array(F)), mi.Float(host_array(lam0))
 
     def _direct_lux(self, scene, sampler, it, n, kernel, mis, active):
         """sum over the scene's lights of their lux at ``it`` (one symbolic loop, one

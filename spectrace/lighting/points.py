@@ -201,7 +201,7 @@ def measure_points(scene, points, normals, *, kind: str = "planar", spp: int = 6
     import mitsuba as mi
 
     from spectrace.lux import illuminance_integrator
-    from spectrace.plugins.integrators.illuminance import point_interaction
+    from spectrace.plugins.integrators.illuminance import host_array, point_interaction
 
     if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
         raise ParameterError(f"spp must be a positive integer (got {spp!r})")
@@ -224,8 +224,9 @@ def measure_points(scene, points, normals, *, kind: str = "planar", spp: int = 6
         k = min(per_pass, samples - done)
         width = count * k
         sampler.seed(pass_seed(seed, done), width)
-        pos = mi.Point3f(*(np.tile(p[:, i], k).astype(np.float32) for i in range(3)))
-        nrm = mi.Vector3f(*(np.tile(n_vec[:, i], k).astype(np.float32) for i in range(3)))
+        # padded host arrays: Dr.Jit's kernels read whole packets (see host_array)
+        pos = mi.Point3f(*(mi.Float(host_array(np.tile(p[:, i], k))) for i in range(3)))
+        nrm = mi.Vector3f(*(mi.Float(host_array(np.tile(n_vec[:, i], k))) for i in range(3)))
         active = dr.full(mi.Bool, True, width)
         wavelengths = integrator.wavelengths(sampler, active)
         it = point_interaction(pos, nrm, 0.0, wavelengths if mi.is_spectral else None)

@@ -194,3 +194,37 @@ def test_windowed_light_is_exact(variant):
     expected = 50.0 * (0.3 / r) / r**2 * window
     assert samples == 1 and np.all(stderr == 0.0)
     np.testing.assert_allclose(lux, expected, rtol=RTOL_EXACT, atol=RTOL_EXACT * expected.max())
+
+
+#: 9 points on the floor of the roof-opening room: MAX_LANES // 9 = 233016 samples per
+#: pass make Dr.Jit arrays of 2097144 floats, 8 short of a packet multiple, whose numpy
+#: buffers end 16 bytes before the end of their pages: the case that crashed.
+CRASH_POINTS, CRASH_SPP = 9, 233016
+CRASH_SCRIPT = r"""
+import sys
+import numpy as np, spectrace
+spectrace.set_variant("llvm_ad_rgb")
+from spectrace.lighting.points import measure_points
+from spectrace.validation import cases
+scene = cases._load("daylight_roof", cases.Settings(), sky_type="uniform")
+n, spp = int(sys.argv[1]), int(sys.argv[2])
+points = np.stack([np.linspace(-1.6, 1.6, n), np.zeros(n), np.zeros(n)], -1)
+lux, stderr, samples = measure_points(scene, points, np.tile([0.0, 1.0, 0.0], (n, 1)), spp=spp)
+print(samples, *lux)
+"""
+
+
+def test_many_samples_under_a_python_sky_do_not_crash():
+    """measure_points at CRASH_POINTS x CRASH_SPP samples under the ``ciesky`` of the
+    roof-opening validation room runs to the end (it died of SIGSEGV: Dr.Jit read past the
+    end of the numpy arrays of the points, see ``host_array``) and gives a positive,
+    finite illuminance at every point. (A subprocess: a crash fails this test alone.)"""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", CRASH_SCRIPT, str(CRASH_POINTS),
+                           str(CRASH_SPP)], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, f"rc {done.returncode}: {done.stderr[-2000:]}"
+    samples, *lux = done.stdout.split()
+    assert int(samples) == CRASH_SPP
+    assert len(lux) == CRASH_POINTS and all(0.0 < float(v) < float("inf") for v in lux)
