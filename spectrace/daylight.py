@@ -67,6 +67,7 @@ def sky_component(scene, points, normal=(0.0, 1.0, 0.0), spp: int = 256, seed: i
     import drjit as dr
     import mitsuba as mi
 
+    from spectrace.plugins.arrays import host_array
     from spectrace.plugins.emitters import luminous
 
     if spp < 2:
@@ -86,8 +87,8 @@ def sky_component(scene, points, normal=(0.0, 1.0, 0.0), spp: int = 256, seed: i
     if mi.is_spectral:
         low, high = luminous.GRID_NM
         u = rng.random((len(it.wavelengths), n)).astype(np.float32)
-        it.wavelengths = mi.UnpolarizedSpectrum(*(low + (high - low) * mi.Float(row)
-                                                  for row in u))
+        it.wavelengths = mi.UnpolarizedSpectrum(*(low + (high - low)
+                                                  * mi.Float(host_array(row)) for row in u))
         V = luminous.photopic_spectrum().eval(it)
         weight = mi.unpolarized_spectrum(V) * (high - low)
     u = rng.random((n, 2)).astype(np.float32)
@@ -106,6 +107,8 @@ def fisheye_luminance(sky, size: int = 129):
     import drjit as dr
     import mitsuba as mi
 
+    from spectrace.plugins.arrays import host_array
+
     c = (np.arange(size) + 0.5) / size * 2 - 1
     s, t = np.meshgrid(c, -c)
     r = np.hypot(s, t)
@@ -116,7 +119,8 @@ def fisheye_luminance(sky, size: int = 129):
     d = (np.sin(zenith)[..., None] * (np.sin(azimuth)[..., None] * east
                                       + np.cos(azimuth)[..., None] * north)
          + np.cos(zenith)[..., None] * up).reshape(-1, 3).astype(np.float32)
-    value = sky.relative_luminance(mi.Vector3f(*(mi.Float(d[:, i]) for i in range(3))))
+    value = sky.relative_luminance(mi.Vector3f(*(mi.Float(host_array(d[:, i]))
+                                                 for i in range(3))))
     L = sky.zenith_luminance * np.array(value, dtype=np.float64).reshape(size, size)
     return np.where(r <= 1.0, L, np.nan)
 

@@ -126,6 +126,7 @@ import math
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
+from spectrace.plugins.arrays import host_array
 from spectrace.plugins.emitters import luminous
 
 from spectrace.errors import ParameterError
@@ -145,33 +146,6 @@ REFERENCE_RAYS = 16
 REFERENCE_DISTANCES = (1e-3, 1e-2, 1e-1, 1.0)
 #: The scene's up axis (DESIGN.md: +Y), the axis of the cylinders of E_z and E_sc.
 UP = (0.0, 1.0, 0.0)
-#: Elements a host array handed to Dr.Jit is padded to a multiple of (see
-#: :func:`host_array`): a multiple of the widest packet of Dr.Jit's LLVM kernels (16 lanes
-#: with AVX-512; 64 leaves room for wider targets).
-PACKET_PADDING = 64
-
-
-def host_array(values, dtype="float32"):
-    """``values`` as a 1-D numpy array of ``dtype`` that Dr.Jit's LLVM backend may map
-    without copying: a view of the first len(values) elements of a zero-padded buffer
-    whose length is a multiple of PACKET_PADDING.
-
-    Dr.Jit 1.5 maps a contiguous numpy array into an LLVM-backend array without a copy,
-    and its kernels load every packet of an input whole (``vmovups`` of 16 lanes with
-    AVX-512), the last one too: a kernel reads up to 15 elements past the end of a mapped
-    array of a length that is no multiple of the packet. Dr.Jit's own allocations are
-    padded for that; numpy's are not, and a large one (allocated with ``mmap``) may end
-    16 bytes before an unmapped page: the over-read then kills the process (SIGSEGV),
-    depending on the array's length and on what lies after it in memory. The padding
-    keeps every packet inside memory the array owns (the extra lanes are masked)."""
-    import numpy as np
-
-    values = np.ascontiguousarray(values, dtype=dtype).reshape(-1)
-    buffer = np.zeros(max(-(-len(values) // PACKET_PADDING), 1) * PACKET_PADDING, dtype)
-    buffer[:len(values)] = values
-    return buffer[:len(values)]
-
-
 def _planar(n, d):
     """cos between the surface normal n and the direction d towards the light."""
     return dr.dot(n, d)

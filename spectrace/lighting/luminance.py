@@ -94,6 +94,8 @@ def luminance_along(scene, origins, directions, *, spp: int = 64, seed: int = 0,
     import drjit as dr
     import mitsuba as mi
 
+    from spectrace.plugins.arrays import host_array
+
     o = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
     d = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
     length = np.linalg.norm(d, axis=1)
@@ -104,8 +106,8 @@ def luminance_along(scene, origins, directions, *, spp: int = 64, seed: int = 0,
     integrator = _path(max_depth)
 
     def evaluate(sampler, k):
-        ray_o = mi.Point3f(*(np.tile(o[:, i], k).astype(np.float32) for i in range(3)))
-        ray_d = mi.Vector3f(*(np.tile(d[:, i], k).astype(np.float32) for i in range(3)))
+        ray_o = mi.Point3f(*(mi.Float(host_array(np.tile(o[:, i], k))) for i in range(3)))
+        ray_d = mi.Vector3f(*(mi.Float(host_array(np.tile(d[:, i], k))) for i in range(3)))
         active = dr.full(mi.Bool, True, len(o) * k)
         value = _luminance(integrator, scene, sampler, ray_o, ray_d, active)
         return np.asarray(value, dtype=np.float64).reshape(k, len(o))
@@ -172,6 +174,8 @@ def luminance_image(scene, *, spp: int = 16, seed: int = 0, max_depth: int = 1,
     import drjit as dr
     import mitsuba as mi
 
+    from spectrace.plugins.arrays import host_array
+
     camera = scene.sensors()[sensor] if isinstance(sensor, int) else sensor
     width, height = (int(v) for v in camera.film().size())
     count = width * height
@@ -182,8 +186,8 @@ def luminance_image(scene, *, spp: int = 16, seed: int = 0, max_depth: int = 1,
     def evaluate(sampler, k):
         active = dr.full(mi.Bool, True, count * k)
         jitter = sampler.next_2d(active)
-        u = (mi.Float(np.tile(px, k).astype(np.float32)) + jitter.x) / width
-        v = (mi.Float(np.tile(py, k).astype(np.float32)) + jitter.y) / height
+        u = (mi.Float(host_array(np.tile(px, k))) + jitter.x) / width
+        v = (mi.Float(host_array(np.tile(py, k))) + jitter.y) / height
         ray, _ = camera.sample_ray(0.0, 0.5, mi.Point2f(u, v), sampler.next_2d(active), active)
         value = _luminance(integrator, scene, sampler, ray.o, ray.d, active)
         return np.asarray(value, dtype=np.float64).reshape(k, count)

@@ -201,7 +201,8 @@ def measure_points(scene, points, normals, *, kind: str = "planar", spp: int = 6
     import mitsuba as mi
 
     from spectrace.lux import illuminance_integrator
-    from spectrace.plugins.integrators.illuminance import host_array, point_interaction
+    from spectrace.plugins.arrays import host_array
+    from spectrace.plugins.integrators.illuminance import point_interaction
 
     if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
         raise ParameterError(f"spp must be a positive integer (got {spp!r})")
