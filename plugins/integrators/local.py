@@ -501,6 +501,12 @@ class Local(mi.SamplingIntegrator):
         """The environment state of the scene being rendered (None without environment)."""
         return self.__dict__.get("_environment_state")
 
+    def check_scene(self, scene):
+        """Prepare the environment terms for ``scene`` now, at load, rather than at its first
+        render (``spectrace.scene.load_scene`` calls it): a missing environment is a
+        ParameterError here, not an error inside a render."""
+        self._prepare_environment(scene)
+
     def _prepare_environment(self, scene):
         """Find the environment of ``scene`` and project its irradiance, once per scene."""
         if self.environment is None and not self.ambient_environment:
