@@ -2,9 +2,10 @@
 term rho_s L_env(r) of ``environment`` and the SH irradiance of ``ambient="environment"``.
 
 Oracles, all computed here with numpy from the map file: the irradiance as a brute-force
-sum over the map's texels (each texel's radiance times its exact solid angle times the
-clamped cosine), the map looked up bilinearly at the mirror direction r = 2 (n . v) n - v
-of an analytic sphere, and the closed form E = pi L of a constant environment.
+integral (a midpoint grid 4 times finer than the map) of the map as Mitsuba's ``envmap``
+reads it (bilinear, rows from pole to pole) times the clamped cosine; the map looked up
+at the mirror direction r = 2 (n . v) n - v of an analytic sphere; and the closed form
+E = pi L of a constant environment.
 """
 
 from __future__ import annotations
@@ -195,6 +196,27 @@ def test_constant_environment_irradiance_is_pi_L(variant):
         {"type": "local", "ambient": {"type": "uniform", "value": np.pi * L_sky}}, False)
     np.testing.assert_allclose(from_environment, from_constant, rtol=RTOL_EXACT)
     np.testing.assert_allclose(from_environment, RHO * L_sky, rtol=RTOL32)
+
+
+@pytest.mark.parametrize("shading", ["flat", "gouraud", "phong"])
+def test_constant_environment_in_every_shading_and_variant(any_variant, shading):
+    """Under a constant environment of radiance L a phong mesh sphere (rho, rho_s) with
+    both terms reflects rho L + rho_s L at every front-facing hit, whatever the normal
+    (flat, per vertex or interpolated), in every variant (mono, polarized too)."""
+    L_sky = 0.7
+    scene = mi.load_dict({
+        "type": "scene",
+        "integrator": {"type": "local", "shading": shading, "ambient": "environment",
+                       "environment": {"type": "ref", "id": "sky"}},
+        "sky": {"type": "constant", "radiance": {"type": "uniform", "value": L_sky}},
+        "sphere": {"type": "obj", "filename": str(MAP.parents[1] / "meshes" / "sphere_low.obj"),
+                   "bsdf": {"type": "phong", "diffuse_reflectance": RHO,
+                            "specular_reflectance": RHO_S}},
+    })
+    normals = random_normals(64)
+    L = shade(scene, 3.0 * normals, -normals,
+              (405.0, 512.5, 600.0, 777.0) if mi.is_spectral else None)
+    np.testing.assert_allclose(L, (RHO + RHO_S) * L_sky, rtol=RTOL32)
 
 
 def write_scene(tmp_path, integrator, emitter=""):
