@@ -28,9 +28,15 @@ parameter           type      default  unit      description
                                                  bias n with no further automatic offset, so 0
                                                  shows shadow acne
 ``ambient``         spectrum  0        W/m^2     irradiance of the indirect light (an emission
-                                                 spectrum: RGB values are illuminants,
-                                                 D65-based in spectral variants), >= 0; adds
-                                                 rho / pi * ambient
+                    or                           spectrum: RGB values are illuminants,
+                    string                       D65-based in spectral variants), >= 0; adds
+                                                 rho / pi * ambient; or ``"environment"``:
+                                                 the environment's irradiance E_SH(n)
+                                                 (below) instead of a constant
+``environment``     ref       none     --        the scene's environment emitter (``envmap``,
+                                                 ``constant``, ``ciesky``), as
+                                                 ``<ref name="environment" id="..."/>``: adds
+                                                 the reflection term rho_s L_env(r) (below)
 ``fog``             string    none     --        fog law f(d): ``none``, ``linear``,
                                                  ``exponential``, ``exponential_squared`` (see
                                                  ``spectrace help fog``)
@@ -62,6 +68,44 @@ is the hit BSDF's ``eval`` (which includes the cosine); ``rho`` is the BSDF's
 directly (unless ``hide_emitters``). d is the distance from the camera (the hit's ray
 parameter t; the camera rays are normalized). Rays that hit nothing have d = infinity:
 with fog on they get fog_color (f = 0), except with density 0.
+
+Environment (reflection mapping and irradiance environment map)
+-----------------------------------------------------------------
+
+::
+
+    L += rho_s L_env(r),  r = 2 (n . v) n - v          (environment)
+    L += rho / pi E_SH(n)                              (ambient = "environment")
+
+``r`` is the view direction v mirrored about the shading normal n (Blinn and Newell
+1976): ``L_env(r)`` is the environment emitter's own ``eval`` along r (so its to_world,
+scale and spectra apply), front side only, with no ray traced along r (the map is taken
+as infinitely far and unoccluded, as reflection mapping does). ``rho_s`` is the BSDF's
+``specular_reflectance`` attribute: that of ``phong`` and ``blinnphong`` (whatever their
+exponent or ``normalized``: the lecture's term treats the lobe as a mirror), and of any
+Mitsuba BSDF that has one as an attribute (``conductor``: 1 unless given, its Fresnel
+factor not applied); a BSDF without it (``diffuse``, ``plastic``, ``dielectric``,
+``roughconductor`` without one, ...) has rho_s = 0 and reflects no environment.
+
+``E_SH(n)`` is the irradiance of the order-2 spherical-harmonics projection of the
+environment (9 coefficients per channel; Ramamoorthi and Hanrahan 2001, eqs. 7-8:
+E(n) = sum A_l L_lm Y_lm(n), A = pi, 2 pi/3, pi/4), clamped at 0, at the shading normal
+turned towards the viewer; no occlusion. The coefficients are projected once per scene,
+when ``spectrace.scene.load_scene`` loads it (``check_scene``) or else at the first
+render, by Gauss-Legendre quadrature in cos(theta) (``QUADRATURE_MIN`` = 64 nodes, or the
+map's height for an ``envmap``, at most ``QUADRATURE_MAX`` = 256) of the emitter's
+``eval``: any environment emitter works (``envmap`` with its to_world, ``constant``,
+``ciesky``). In spectral variants they are tabulated from 360 to 830 nm every 5 nm and
+interpolated at each ray's wavelengths. A constant environment of radiance L gives
+E_SH = pi L exactly. Changes made to the environment through ``mi.traverse`` after the
+projection do not reach E_SH (the reflection term sees them).
+
+``ambient = "environment"`` uses the ``environment`` reference, or else the scene's
+environment emitter; a scene without one is refused (a ParameterError naming
+``ambient``). The environment used by either term is left out of the sum over lights
+(its light comes in through these two terms only, noise-free, as in the lecture's
+environment-mapping model); without ``environment`` and ``ambient = "environment"`` an
+environment is sampled like any other light (below).
 
 Non-delta emitters (lights with a ``source_radius``, area lights, environment maps) are
 *sampled*, not rejected: each gets ``shadow_samples`` emitter samples (``sample_direction``
@@ -100,7 +144,10 @@ ACM* 18(6) (the reflection model and interpolated normals); Gouraud (1971), "Con
 shading of curved surfaces", *IEEE Transactions on Computers* C-20(6); Segal, Akeley
 (2003), *The OpenGL Graphics System 1.5 Specification*, sec. 3.10 (fog);
 Akenine-Moeller, Haines, Hoffman et al. (2018), *Real-Time Rendering* 4th ed., ch. 5
-(the local model with ambient term).
+(the local model with ambient term) and ch. 10 (environment mapping); Blinn, Newell (1976),
+"Texture and reflection in computer generated images", *CACM* 19(10) (reflection
+mapping); Ramamoorthi, Hanrahan (2001), "An efficient representation for irradiance
+environment maps", SIGGRAPH (order-2 spherical harmonics).
 
 Example
 -------
@@ -115,6 +162,17 @@ Gouraud shading with a little ambient light and bluish exponential fog::
         <string name="fog" value="exponential"/>
         <float name="fog_density" value="0.05"/>
         <rgb name="fog_color" value="0.6, 0.65, 0.7"/>
+    </integrator>
+
+A reflection-mapped object under an environment map, its diffuse part lit by the map's
+irradiance::
+
+    <emitter type="envmap" id="sky">
+        <string name="filename" value="textures/daylight_sky.exr"/>
+    </emitter>
+    <integrator type="local">
+        <ref name="environment" id="sky"/>
+        <string name="ambient" value="environment"/>
     </integrator>
 """
 

@@ -242,9 +242,9 @@ def test_ambient_environment_without_environment_is_refused(tmp_path, variant_rg
     assert str(path) in str(error.value) and "\n" not in str(error.value)
 
 
+#: More bad input in tests/plugins/test_local.py (BAD_PARAMETERS).
 BAD_PARAMETERS = [
-    ("ambient", {"ambient": "sky"}),
-    ("environment", {"environment": {"type": "point"}}),
+    ("environment", {"environment": {"type": "directional"}}),
     ("environment", {"environment": {"type": "diffuse"}}),
     ("environment", {"environment": "sky"}),
 ]
