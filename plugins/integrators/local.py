@@ -297,6 +297,7 @@ def _sh_irradiance_function(env):
     """``irradiance(n, wavelengths)``: the order-2 SH irradiance E(n) of emitter ``env``
     (Ramamoorthi and Hanrahan 2001), projected here by quadrature of its ``eval``."""
     import numpy as np
+
     from spectrace import envmaps
 
     n = QUADRATURE_MIN
