@@ -17,6 +17,7 @@ import mitsuba as mi
 import numpy as np
 import pytest
 
+import spectrace
 from spectrace import envmaps
 from spectrace.errors import ParameterError
 from spectrace.scene import load_scene
@@ -176,8 +177,6 @@ def test_sh_irradiance_of_any_environment_matches_its_brute_force_integral(case)
     nodes) and for `ciesky` skies, rho/pi E_SH(n) is within the order-2 error of the
     brute-force irradiance integral of the emitter's own radiance; the brute force itself
     gives the CIE overcast sky's closed form E_h = 7 pi L_z / 9."""
-    import spectrace
-
     variant, emitter = EMITTERS[case]
     spectrace.set_variant(variant)
     if "to_world" in emitter:
