@@ -490,15 +490,23 @@ def convert_file(source_path, target_path, to: str, source_layout: str | None = 
 SH_COSINE_LOBE = (np.pi, 2.0 * np.pi / 3.0, np.pi / 4.0)
 
 
+#: The exact normalizations 1/(2 sqrt(pi)), sqrt(3/(4 pi)), sqrt(15/(4 pi)) of the bands
+#: (0.282095, 0.488603, 1.092548 rounded in Ramamoorthi and Hanrahan 2001, eq. 3; Y_20 and
+#: Y_22 take sqrt(5/(16 pi)) = c_2 / (2 sqrt(3)) and sqrt(15/(16 pi)) = c_2 / 2).
+SH_NORMALIZATION = (0.5 / np.sqrt(np.pi), np.sqrt(3.0 / (4.0 * np.pi)),
+                    np.sqrt(15.0 / (4.0 * np.pi)))
+
+
 def sh_basis(d):
     """The 9 real spherical harmonics Y_lm (l <= 2, orthonormal on the sphere) at unit
     directions ``d`` (..., 3): (..., 9) in the order (0,0), (1,-1), (1,0), (1,1), (2,-2),
     (2,-1), (2,0), (2,1), (2,2) with y, z, x as in Ramamoorthi and Hanrahan (2001), eq. 3."""
     x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    c0, c1, c2 = SH_NORMALIZATION
     return np.stack([
-        np.full_like(x, 0.282095), 0.488603 * y, 0.488603 * z, 0.488603 * x,
-        1.092548 * x * y, 1.092548 * y * z, 0.315392 * (3 * z * z - 1), 1.092548 * x * z,
-        0.546274 * (x * x - y * y)], axis=-1)
+        np.full_like(x, c0), c1 * y, c1 * z, c1 * x,
+        c2 * x * y, c2 * y * z, 0.5 * c2 / np.sqrt(3.0) * (3 * z * z - 1), c2 * x * z,
+        0.5 * c2 * (x * x - y * y)], axis=-1)
 
 
 #: Band l of each of the 9 coefficients of :func:`sh_basis`.
@@ -526,3 +534,32 @@ def sh_irradiance(coefficients, normals):
     above 2; within a few percent for natural maps (Ramamoorthi and Hanrahan 2001)."""
     A = np.array([SH_COSINE_LOBE[band] for band in SH_BANDS])
     return sh_basis(np.asarray(normals, dtype=np.float64)) @ (A[:, None] * coefficients)
+
+
+def sphere_quadrature(n: int):
+    """Directions (2 n^2, 3) and weights (2 n^2,) summing to 4 pi for integrals over the
+    sphere: Gauss-Legendre in y = cos(theta) (n nodes) times the midpoint rule in the
+    azimuth (2 n nodes, the latlong convention's phi). Exact for polynomials in (x, y, z)
+    of degree < 2 n, hence for the order-2 projection of any map of degree <= 2 n - 3."""
+    y, w_y = np.polynomial.legendre.leggauss(int(n))
+    phi = (np.arange(2 * n) + 0.5) * (np.pi / n)
+    sin_theta = np.sqrt(np.maximum(1.0 - y * y, 0.0))[:, None]
+    d = np.stack(np.broadcast_arrays(sin_theta * np.sin(phi), y[:, None],
+                                     -sin_theta * np.cos(phi)), axis=-1)
+    w = np.broadcast_to(w_y[:, None] * (np.pi / n), d.shape[:-1])
+    return d.reshape(-1, 3), np.ascontiguousarray(w).reshape(-1)
+
+
+def sh_project_samples(radiance, weights, directions):
+    """L_lm = sum_i w_i L(d_i) Y_lm(d_i): the order-2 projection (9, C) of radiance samples
+    (N, C) at unit ``directions`` (N, 3) with quadrature ``weights`` (N,), e.g. those of
+    :func:`sphere_quadrature`."""
+    Y = sh_basis(np.asarray(directions, dtype=np.float64)) * np.asarray(weights)[:, None]
+    return Y.T @ np.asarray(radiance, dtype=np.float64)
+
+
+def sh_irradiance_coefficients(coefficients):
+    """A_l L_lm (9, C): the coefficients of the irradiance E(n) = sum_k c_k Y_k(n) of
+    :func:`sh_irradiance`, for evaluation elsewhere (e.g. in a Dr.Jit kernel)."""
+    A = np.array([SH_COSINE_LOBE[band] for band in SH_BANDS])
+    return A[:, None] * np.asarray(coefficients, dtype=np.float64)

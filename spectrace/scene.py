@@ -145,6 +145,12 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     if scene.integrator() is None:
         raise FileFormatError(
             f'scene {path}: no <integrator> (add one, e.g. <integrator type="path"/>)')
+    check_scene = getattr(scene.integrator(), "check_scene", None)
+    if check_scene is not None:  # an integrator that needs more of the scene (local)
+        try:
+            check_scene(scene)
+        except SpectraceError as e:
+            raise type(e)(f"scene {path}: {e}") from None
     for sensor in scene.sensors():
         film = sensor.film()
         width, height = (int(v) for v in film.crop_size())

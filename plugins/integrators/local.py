@@ -28,9 +28,15 @@ parameter           type      default  unit      description
                                                  bias n with no further automatic offset, so 0
                                                  shows shadow acne
 ``ambient``         spectrum  0        W/m^2     irradiance of the indirect light (an emission
-                                                 spectrum: RGB values are illuminants,
-                                                 D65-based in spectral variants), >= 0; adds
-                                                 rho / pi * ambient
+                    or                           spectrum: RGB values are illuminants,
+                    string                       D65-based in spectral variants), >= 0; adds
+                                                 rho / pi * ambient; or ``"environment"``:
+                                                 the environment's irradiance E_SH(n)
+                                                 (below) instead of a constant
+``environment``     ref       none     --        the scene's environment emitter (``envmap``,
+                                                 ``constant``, ``ciesky``), as
+                                                 ``<ref name="environment" id="..."/>``: adds
+                                                 the reflection term rho_s L_env(r) (below)
 ``fog``             string    none     --        fog law f(d): ``none``, ``linear``,
                                                  ``exponential``, ``exponential_squared`` (see
                                                  ``spectrace help fog``)
@@ -62,6 +68,44 @@ is the hit BSDF's ``eval`` (which includes the cosine); ``rho`` is the BSDF's
 directly (unless ``hide_emitters``). d is the distance from the camera (the hit's ray
 parameter t; the camera rays are normalized). Rays that hit nothing have d = infinity:
 with fog on they get fog_color (f = 0), except with density 0.
+
+Environment (reflection mapping and irradiance environment map)
+-----------------------------------------------------------------
+
+::
+
+    L += rho_s L_env(r),  r = 2 (n . v) n - v          (environment)
+    L += rho / pi E_SH(n)                              (ambient = "environment")
+
+``r`` is the view direction v mirrored about the shading normal n (Blinn and Newell
+1976): ``L_env(r)`` is the environment emitter's own ``eval`` along r (so its to_world,
+scale and spectra apply), front side only, with no ray traced along r (the map is taken
+as infinitely far and unoccluded, as reflection mapping does). ``rho_s`` is the BSDF's
+``specular_reflectance`` attribute: that of ``phong`` and ``blinnphong`` (whatever their
+exponent or ``normalized``: the lecture's term treats the lobe as a mirror), and of any
+Mitsuba BSDF that has one as an attribute (``conductor``: 1 unless given, its Fresnel
+factor not applied); a BSDF without it (``diffuse``, ``plastic``, ``dielectric``,
+``roughconductor`` without one, ...) has rho_s = 0 and reflects no environment.
+
+``E_SH(n)`` is the irradiance of the order-2 spherical-harmonics projection of the
+environment (9 coefficients per channel; Ramamoorthi and Hanrahan 2001, eqs. 7-8:
+E(n) = sum A_l L_lm Y_lm(n), A = pi, 2 pi/3, pi/4), clamped at 0, at the shading normal
+turned towards the viewer; no occlusion. The coefficients are projected once per scene,
+when ``spectrace.scene.load_scene`` loads it (``check_scene``) or else at the first
+render, by Gauss-Legendre quadrature in cos(theta) (``QUADRATURE_MIN`` = 64 nodes, or the
+map's height for an ``envmap``, at most ``QUADRATURE_MAX`` = 256) of the emitter's
+``eval``: any environment emitter works (``envmap`` with its to_world, ``constant``,
+``ciesky``). In spectral variants they are tabulated from 360 to 830 nm every 5 nm and
+interpolated at each ray's wavelengths. A constant environment of radiance L gives
+E_SH = pi L exactly. Changes made to the environment through ``mi.traverse`` after the
+projection do not reach E_SH (the reflection term sees them).
+
+``ambient = "environment"`` uses the ``environment`` reference, or else the scene's
+environment emitter; a scene without one is refused (a ParameterError naming
+``ambient``). The environment used by either term is left out of the sum over lights
+(its light comes in through these two terms only, noise-free, as in the lecture's
+environment-mapping model); without ``environment`` and ``ambient = "environment"`` an
+environment is sampled like any other light (below).
 
 Non-delta emitters (lights with a ``source_radius``, area lights, environment maps) are
 *sampled*, not rejected: each gets ``shadow_samples`` emitter samples (``sample_direction``
@@ -100,7 +144,10 @@ ACM* 18(6) (the reflection model and interpolated normals); Gouraud (1971), "Con
 shading of curved surfaces", *IEEE Transactions on Computers* C-20(6); Segal, Akeley
 (2003), *The OpenGL Graphics System 1.5 Specification*, sec. 3.10 (fog);
 Akenine-Moeller, Haines, Hoffman et al. (2018), *Real-Time Rendering* 4th ed., ch. 5
-(the local model with ambient term).
+(the local model with ambient term) and ch. 10 (environment mapping); Blinn, Newell (1976),
+"Texture and reflection in computer generated images", *CACM* 19(10) (reflection
+mapping); Ramamoorthi, Hanrahan (2001), "An efficient representation for irradiance
+environment maps", SIGGRAPH (order-2 spherical harmonics).
 
 Example
 -------
@@ -115,6 +162,17 @@ Gouraud shading with a little ambient light and bluish exponential fog::
         <string name="fog" value="exponential"/>
         <float name="fog_density" value="0.05"/>
         <rgb name="fog_color" value="0.6, 0.65, 0.7"/>
+    </integrator>
+
+A reflection-mapped object under an environment map, its diffuse part lit by the map's
+irradiance::
+
+    <emitter type="envmap" id="sky">
+        <string name="filename" value="textures/daylight_sky.exr"/>
+    </emitter>
+    <integrator type="local">
+        <ref name="environment" id="sky"/>
+        <string name="ambient" value="environment"/>
     </integrator>
 """
 
@@ -189,6 +247,115 @@ def _shade_gouraud(si, *, integrator, scene, sampler, ray, pi, bsdf, active):
     return L
 
 
+class _EnvironmentState:
+    """What ``local`` needs of a scene's environment: the emitter, its index among the
+    scene's emitters (left out of the light sum) and, for ``ambient="environment"``, its
+    order-2 spherical-harmonics irradiance ``irradiance(n, wavelengths)``."""
+
+    def __init__(self, integrator, scene):
+        env = integrator.environment
+        if env is None:
+            env = scene.environment()
+        if env is None:
+            raise ParameterError(
+                f"{PLUGIN}: parameter 'ambient' = \"environment\" needs an environment "
+                "emitter (envmap, constant, ciesky) in the scene, and it has none"
+            )
+        self.emitter = env
+        self.index = next((j for j, e in enumerate(scene.emitters()) if e == env), None)
+        self.irradiance = None
+        if integrator.ambient_environment:
+            self.irradiance = _sh_irradiance_function(env)
+
+
+#: Nodes in y = cos(theta) of the quadrature that projects an environment (the azimuth
+#: takes twice as many): at least this many, or the map's height for an ``envmap``, at most
+#: :data:`QUADRATURE_MAX`.
+QUADRATURE_MIN = 64
+QUADRATURE_MAX = 256
+#: Wavelength step (nm) of the spectral variants' table of SH coefficients, 360 to 830 nm
+#: (the CIE range), interpolated linearly at each ray's wavelengths.
+SH_WAVELENGTH_STEP = 5.0
+
+
+def _environment_radiance(env, directions, wavelengths=None):
+    """L_env(d) (N, C) of emitter ``env`` at world directions (N, 3) (numpy), via its
+    ``eval``: the light arriving from d, at ``wavelengths`` (4 values, spectral variants)."""
+    import numpy as np
+
+    si = dr.zeros(mi.SurfaceInteraction3f, len(directions))
+    si.wi = -mi.Vector3f(*(np.ascontiguousarray(directions[:, k]) for k in range(3)))
+    if wavelengths is not None:
+        si.wavelengths = type(si.wavelengths)(*(float(x) for x in wavelengths))
+    L = mi.unpolarized_spectrum(env.eval(si))
+    dr.eval(L)
+    L = np.array(L).reshape(dr.size_v(mi.UnpolarizedSpectrum), -1)
+    return np.broadcast_to(L, (L.shape[0], len(directions))).T  # (a constant: width 1)
+
+
+def _sh_irradiance_function(env):
+    """``irradiance(n, wavelengths)``: the order-2 SH irradiance E(n) of emitter ``env``
+    (Ramamoorthi and Hanrahan 2001), projected here by quadrature of its ``eval``."""
+    import numpy as np
+
+    from spectrace import envmaps
+
+    n = QUADRATURE_MIN
+    if env.class_name() == "EnvironmentMapEmitter":
+        n = max(n, int(mi.traverse(env)["data"].shape[0]))
+    d, w = envmaps.sphere_quadrature(min(n, QUADRATURE_MAX))
+    if not mi.is_spectral:
+        c = envmaps.sh_irradiance_coefficients(envmaps.sh_project_samples(
+            _environment_radiance(env, d), w, d))  # (9, C)
+
+        def irradiance(normal, wavelengths):
+            Y = _sh_basis(normal)
+            return mi.UnpolarizedSpectrum(*(
+                dr.maximum(sum(float(c[k, ch]) * Y[k] for k in range(9)), 0.0)
+                for ch in range(c.shape[1])))
+        return irradiance
+
+    lambdas = np.arange(mi.MI_CIE_MIN, mi.MI_CIE_MAX + 0.5 * SH_WAVELENGTH_STEP,
+                        SH_WAVELENGTH_STEP)
+    columns = []
+    for start in range(0, len(lambdas), 4):
+        group = [lambdas[min(start + i, len(lambdas) - 1)] for i in range(4)]
+        L = _environment_radiance(env, d, group)
+        columns.append(envmaps.sh_irradiance_coefficients(envmaps.sh_project_samples(
+            L, w, d)))
+    table = np.concatenate(columns, axis=1)[:, : len(lambdas)].T  # (n_lambda, 9)
+    coefficients = mi.Float(np.ascontiguousarray(table, dtype=np.float32).ravel())
+    last = len(lambdas) - 1
+
+    def irradiance(normal, wavelengths):
+        Y = _sh_basis(normal)
+        channels = []
+        for ch in range(len(wavelengths)):
+            x = dr.clip((wavelengths[ch] - float(lambdas[0])) / SH_WAVELENGTH_STEP, 0, last)
+            i0 = dr.minimum(mi.UInt32(dr.floor(x)), last - 1)
+            f = x - mi.Float(i0)
+            E = mi.Float(0.0)
+            for k in range(9):
+                c0 = dr.gather(mi.Float, coefficients, i0 * 9 + k)
+                c1 = dr.gather(mi.Float, coefficients, (i0 + 1) * 9 + k)
+                E += Y[k] * dr.lerp(c0, c1, f)
+            channels.append(dr.maximum(E, 0.0))
+        return mi.UnpolarizedSpectrum(*channels)
+    return irradiance
+
+
+def _sh_basis(d):
+    """The 9 real spherical harmonics of :func:`spectrace.envmaps.sh_basis` at the Dr.Jit
+    unit vectors ``d`` (same order and normalization)."""
+    from spectrace.envmaps import SH_NORMALIZATION
+
+    c0, c1, c2 = (float(c) for c in SH_NORMALIZATION)
+    x, y, z = d.x, d.y, d.z
+    return (dr.full(mi.Float, c0, dr.width(x)), c1 * y, c1 * z, c1 * x, c2 * x * y,
+            c2 * y * z, 0.5 * c2 / 3.0 ** 0.5 * (3.0 * z * z - 1.0), c2 * x * z,
+            0.5 * c2 * (x * x - y * y))
+
+
 #: The shading models, colour-science's ``*_METHODS`` style: ``shading`` value ->
 #: ``shade(si, *, integrator, scene, sampler, ray, pi, bsdf, active)``, the reflected
 #: radiance of the hit ``si``.
@@ -209,7 +376,9 @@ class Local(mi.SamplingIntegrator):
         self.shadow_samples = params.read_int(props, PLUGIN, "shadow_samples", 1, minimum=1)
         self.shadow_bias = params.read_float(props, PLUGIN, "shadow_bias", 1e-3, minimum=0.0,
                                              finite=True)
-        self.ambient = self._spectrum(props, "ambient")
+        self.ambient_environment = self._is_environment_ambient(props)
+        self.ambient = None if self.ambient_environment else self._spectrum(props, "ambient")
+        self.environment = self._environment_reference(props)
         self.fog = params.read_choice(props, PLUGIN, "fog", "none", FOG_METHODS)
         self.fog_start = params.read_float(props, PLUGIN, "fog_start", 0.0, minimum=0.0,
                                            finite=True)
@@ -222,6 +391,39 @@ class Local(mi.SamplingIntegrator):
                 f"{PLUGIN}: parameter 'fog_end' must be > fog_start = {self.fog_start:g} "
                 f"(got {self.fog_end:g})"
             )
+
+    @staticmethod
+    def _is_environment_ambient(props):
+        """Whether ``ambient`` is the string "environment" (any other string is refused)."""
+        if "ambient" not in props or props.type("ambient") != mi.Properties.Type.String:
+            return False
+        value = props.get("ambient")
+        if value != "environment":
+            raise ParameterError(
+                f"{PLUGIN}: parameter 'ambient' must be a spectrum or \"environment\" "
+                f"(got {value!r})"
+            )
+        return True
+
+    @staticmethod
+    def _environment_reference(props):
+        """The emitter of ``<ref name="environment" id="..."/>`` (an environment: infinite,
+        not a delta light), or None."""
+        if "environment" not in props:
+            return None
+        value = props.get("environment") if props.type("environment") == \
+            mi.Properties.Type.Object else None
+        flags = value.flags() if isinstance(value, mi.Emitter) else None
+        if flags is None or not mi.has_flag(flags, mi.EmitterFlags.Infinite) or \
+                mi.has_flag(flags, mi.EmitterFlags.Delta):
+            got = value.class_name() if hasattr(value, "class_name") else params._got(
+                props, "environment")
+            raise ParameterError(
+                f"{PLUGIN}: parameter 'environment' must be a reference to an environment "
+                f"emitter (envmap, constant, ciesky: <ref name=\"environment\" id=\"...\"/>), "
+                f"got {got}"
+            )
+        return value
 
     @staticmethod
     def _spectrum(props, name):
@@ -258,13 +460,16 @@ class Local(mi.SamplingIntegrator):
         if n == 0:
             return L
         emitters = scene.emitters_dr()
+        state = self._environment_now
+        skip = None if state is None else state.index
 
         def body(j, L, sampler):
-            emitter = dr.gather(mi.EmitterPtr, emitters, j, active)
+            on = active if skip is None else active & (j != skip)
+            emitter = dr.gather(mi.EmitterPtr, emitters, j, on)
             if self.shadow_samples == 1:
-                L += light(emitter, sampler.next_2d(active), active)
+                L += light(emitter, sampler.next_2d(active), on)
             else:
-                L += self._averaged_light(emitter, sampler, light, active)
+                L += self._averaged_light(emitter, sampler, light, on)
             return j + 1, L, sampler
 
         _, L, _ = dr.while_loop(
@@ -320,12 +525,56 @@ class Local(mi.SamplingIntegrator):
         return dr.select(lit, f * radiance, 0.0)
 
     def _ambient_term(self, bsdf, si, active):
-        """rho/pi * ambient at ``si`` (0 without ``ambient``)."""
-        if self.ambient is None:
+        """rho/pi * ambient at ``si`` (0 without ``ambient``), plus the environment's terms:
+        rho/pi * E_SH(n) (``ambient="environment"``) and rho_s * L_env(r) (``environment``)."""
+        if self.ambient is None and self._environment_now is None:
             return dr.zeros(mi.Spectrum, dr.width(active))
         rho = bsdf.eval_diffuse_reflectance(si, active)
-        ambient = mi.unpolarized_spectrum(rho) * dr.inv_pi * self.ambient.eval(si, active)
+        if self.ambient is not None:
+            E = self.ambient.eval(si, active)
+        else:
+            E = dr.zeros(mi.UnpolarizedSpectrum, dr.width(active))
+        state = self._environment_now
+        if state is not None and state.irradiance is not None:
+            # The normal on the viewer's side: the irradiance of the side that is seen.
+            n = dr.mulsign(si.sh_frame.n, si.wi.z)
+            E += state.irradiance(n, si.wavelengths)
+        ambient = mi.unpolarized_spectrum(rho) * dr.inv_pi * E
+        if self.environment is not None:
+            ambient += self._reflection_term(bsdf, si, active)
         return dr.select(active, mi.depolarizer(ambient), 0.0)
+
+    def _reflection_term(self, bsdf, si, active):
+        """rho_s L_env(r), r = 2 (n . v) n - v the mirror of the view direction about the
+        shading normal (front side only; no ray is traced along r)."""
+        front = active & (si.wi.z > 0)
+        rho_s = bsdf.eval_attribute("specular_reflectance", si, front)
+        r = si.to_world(mi.Vector3f(-si.wi.x, -si.wi.y, si.wi.z))
+        si_env = mi.SurfaceInteraction3f(si)
+        si_env.wi = -r
+        L = mi.unpolarized_spectrum(self.environment.eval(si_env, front))
+        return dr.select(front, mi.unpolarized_spectrum(rho_s) * L, 0.0)
+
+    @property
+    def _environment_now(self):
+        """The environment state of the scene being rendered (None without environment)."""
+        return self.__dict__.get("_environment_state")
+
+    def check_scene(self, scene):
+        """Prepare the environment terms for ``scene`` now, at load, rather than at its first
+        render (``spectrace.scene.load_scene`` calls it): a missing environment is a
+        ParameterError here, not an error inside a render."""
+        self._prepare_environment(scene)
+
+    def _prepare_environment(self, scene):
+        """Find the environment of ``scene`` and project its irradiance, once per scene."""
+        if self.environment is None and not self.ambient_environment:
+            return
+        cache = self.__dict__.setdefault("_environment_cache", {})
+        key = (id(scene), len(scene.emitters()))
+        if key not in cache:
+            cache[key] = _EnvironmentState(self, scene)
+        self.__dict__["_environment_state"] = cache[key]
 
     def fog_fraction(self, d):
         """f(d) of the configured fog law for camera distances ``d``."""
@@ -338,6 +587,7 @@ class Local(mi.SamplingIntegrator):
         active = mi.Bool(active)
         if self.shading == "gouraud":
             self._warn_gouraud_fallback(scene)
+        self._prepare_environment(scene)
         pi = scene.ray_intersect_preliminary(ray, coherent=True, active=active)
         si = pi.compute_surface_interaction(ray, mi.RayFlags.All, active)
         hit = active & si.is_valid()

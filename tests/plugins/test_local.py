@@ -599,6 +599,8 @@ BAD_PARAMETERS = [
     ("fog_color", {"fog_color": -0.2}),
     ("ambient", {"ambient": {"type": "rgb", "value": [0.5, -0.1, 0.2]}}),
     ("shadow_samples", {"shadow_samples": 0}),
+    ("ambient", {"ambient": "environmnt"}),
+    ("environment", {"environment": {"type": "point"}}),
 ]
 
 
