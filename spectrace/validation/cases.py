@@ -157,7 +157,8 @@ POINT_INTENSITY = 1000.0  # cd
 POINT_HEIGHT = 2.0  # m
 
 
-def _point_plane(settings, name, title, tilt, centre, spp=(16, 64)):
+def _point_plane(settings, name, title, tilt, centre, spp=(16, 64), family="point",
+                 source_radius=0.0):
     """Points on the plane of point_source.xml tilted by ``tilt`` degrees about x."""
     t = np.radians(tilt)
     normal = np.array([0.0, np.cos(t), np.sin(t)])
@@ -166,11 +167,12 @@ def _point_plane(settings, name, title, tilt, centre, spp=(16, 64)):
     u, v = _grid(-3.0, 3.0, 0.2, 3.8, n) if tilt == 90 else _grid(-3.0, 3.0, -3.0, 3.0, n)
     points = np.asarray(centre) + u[:, None] * [1.0, 0.0, 0.0] + v[:, None] * along
     normals = np.broadcast_to(normal, points.shape)
-    result = Result(name, "point", title, "E (lx)", x=np.arange(len(points)))
+    result = Result(name, family, title, "E (lx)", x=np.arange(len(points)))
     result.reference = ref.point_illuminance(points, normals, [0.0, POINT_HEIGHT, 0.0],
                                              POINT_INTENSITY)
     scene = _load("point_source", settings, intensity=POINT_INTENSITY, height=POINT_HEIGHT,
-                  tilt=tilt, px=centre[0], py=centre[1], pz=centre[2])
+                  tilt=tilt, px=centre[0], py=centre[1], pz=centre[2],
+                  source_radius=source_radius)
     return _measure(result, scene, points, normals, _n(settings, *spp), settings)
 
 
@@ -310,6 +312,19 @@ def area_disk_parallel(settings: Settings) -> Result:
                                                                   offset), "area_disk")
     result.x, result.xlabel = offset, "distance from the axis (m)"
     return result
+
+
+SPHERE_SOURCE_RADIUS = 0.3  # m, below the light's height: whole above every floor point
+
+
+def area_sphere(settings: Settings) -> Result:
+    """A uniform Lambertian sphere (spectrace's pointlight with ``source_radius``) over a
+    horizontal plane, wholly above every point's horizon: it lights the plane exactly as
+    the point of the same intensity at its centre, E = I h / d^3 (Howell's configuration
+    factor of a sphere, B-25 family, for a sphere wholly visible)."""
+    return _point_plane(settings, "area_sphere", "Lambertian sphere (sized pointlight), "
+                        "horizontal plane", 0.0, (0.0, 0.0, 0.0), spp=(256, 4096),
+                        family="area", source_radius=SPHERE_SOURCE_RADIUS)
 
 
 # -- 5.4 flux conservation ---------------------------------------------------------------
@@ -593,6 +608,7 @@ CASES: dict[str, Callable[[Settings], Result]] = {
     "area_rectangle_parallel": area_rectangle_parallel,
     "area_rectangle_perpendicular": area_rectangle_perpendicular,
     "area_disk_parallel": area_disk_parallel,
+    "area_sphere": area_sphere,
     "flux_closed_room": flux_closed_room,
     "glass_transmittance": glass_transmittance,
     "diffuse_reflection": diffuse_reflection,

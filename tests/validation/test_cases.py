@@ -17,6 +17,7 @@ WRONG = {
     "area_disk_parallel": {"radiance": repr(C._radiance(1.05 * C.SOURCE_LUMINANCE))},
     "area_rectangle_parallel": {"radiance": repr(C._radiance(1.05 * C.SOURCE_LUMINANCE))},
     "integrating_sphere": {"flux": "1050"},
+    "area_sphere": {"intensity": "1050"},
     "diffuse_reflection_obstructed": {"rho": "0.525"},
     "glass_transmittance": {"ior": "1.6"},
     "daylight_facade_overcast": {"zenith_luminance": "1050"},
