@@ -503,7 +503,7 @@ def read_spectral_layers_exr(path):
     text = header.get("bandWavelengths")
     if not names or text is None:
         raise FileFormatError(f"{path}: no spectral light-group layers (<group>.S0.*); "
-                              "render it with --film spectral and light groups")
+                              "render it with a spectral film and light groups")
     wavelengths = np.array([float(v) for v in str(text).split(",")])
     bands = {}
     for prefix in ["", *(f"{g}." for g in names)]:

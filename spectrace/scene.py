@@ -56,17 +56,6 @@ def load_error(error: BaseException) -> SpectraceError:
     return FileFormatError("; ".join(ln for ln in lines if ln).replace(":;", ":"))
 
 
-def parse_defines(defines: list[str] | None) -> dict[str, str]:
-    """``["name=value", ...]`` from ``-D`` options -> dict."""
-    params = {}
-    for item in defines or []:
-        name, sep, value = item.partition("=")
-        if not sep or not name.strip():
-            raise ParameterError(f"-D {item!r}: expected name=value")
-        params[name.strip()] = value
-    return params
-
-
 def read_scene_xml(path: str | Path) -> ET.Element:
     """Parse the scene file; a missing file is a FileAccessError, a malformed one a
     FileFormatError, naming it."""
@@ -224,13 +213,14 @@ def scene_defaults(tree: ET.Element) -> dict[str, str]:
 
 
 def _unused_parameters(path: Path, tree: ET.Element, message: str) -> str:
-    """-D naming parameters the scene does not have: name them and list the scene's own."""
+    """``params`` naming parameters the scene does not have: name them and list the scene's
+    own."""
     names = sorted(set(re.findall(r"\$(\w+)=", message)))
-    named = ", ".join(f"'{n}'" for n in names) or "some -D parameters"
+    named = ", ".join(f"'{n}'" for n in names) or "some of the given ones"
     defaults = scene_defaults(tree)
     has = (f"its parameters (<default>): {', '.join(f'{k}={v}' for k, v in defaults.items())}"
            if defaults else "it has no <default> parameters")
-    return f"scene {path}: -D {named}: the scene has no such parameter; {has}"
+    return f"scene {path}: parameter {named}: the scene has no such parameter; {has}"
 
 
 #: Mitsuba's words for a plugin that needs (or refuses) a polarized variant.
@@ -255,13 +245,13 @@ def polarized_variant(variant: str, polarized: bool) -> str:
 
 
 def _variant_hint(message: str) -> str:
-    """'; render it with --variant V' when a plugin needs another polarization mode."""
+    """'; it needs the variant V' when a plugin needs another polarization mode."""
     import mitsuba as mi
 
     if _NEEDS_POLARIZED in message:
-        return f"; render it with --variant {polarized_variant(mi.variant(), True)}"
+        return f"; it needs the variant {polarized_variant(mi.variant(), True)}"
     if _REFUSES_POLARIZED in message:
-        return f"; render it with --variant {polarized_variant(mi.variant(), False)}"
+        return f"; it needs the variant {polarized_variant(mi.variant(), False)}"
     return ""
 
 

@@ -15,9 +15,10 @@ from spectrace.commands import (
     EXIT_INTERRUPTED,
     add_render_options,
     check_render_options,
+    parse_defines,
     progress_bar,
 )
-from spectrace.errors import SpectraceError, UsageError
+from spectrace.errors import ParameterError, SpectraceError, UsageError
 from spectrace.passes import scene_spp
 
 
@@ -98,15 +99,18 @@ def run(args) -> int:
 def run_map(args) -> int:
     from spectrace import lux
     from spectrace.images import check_writable
-    from spectrace.scene import parse_defines, read_scene_xml
+    from spectrace.scene import read_scene_xml
 
     scene_path = Path(args.scene)
     check_render_options(args)  # before loading anything
     if args.max_depth == 0 or args.max_depth < -1:
         raise UsageError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
-    plane = None if args.plane is None else lux.parse_plane(args.plane)
-    value_range = None if args.value_range is None else \
-        lux.parse_range(args.value_range, args.log)
+    try:  # the library's messages call them plane, value_range, log: here, by their flags
+        plane = None if args.plane is None else lux.parse_plane(args.plane, "--plane")
+        value_range = None if args.value_range is None else \
+            lux.parse_range(args.value_range, args.log, ("--range", "--log"))
+    except ParameterError as e:
+        raise UsageError(str(e)) from None
     paths = output_paths(scene_path, args.output)
     params = parse_defines(args.defines)
     root = read_scene_xml(scene_path)
@@ -121,7 +125,10 @@ def run_map(args) -> int:
     spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
     scene = _load(scene_path, params, root)
     if plane is not None:  # before check_writable makes the output's folder
-        lux.check_plane_visible(scene, plane)
+        try:
+            lux.check_plane_visible(scene, plane, name="--plane")
+        except ParameterError as e:
+            raise UsageError(str(e)) from None
     if args.daylight_factor is not None:  # a scene without a ciesky fails before rendering
         from spectrace import daylight
 
@@ -169,8 +176,14 @@ def _render_with_progress(scene, spp, plane, args):
     from spectrace.lux import render_lux
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
-        return render_lux(scene, spp, seed=args.seed, plane=plane, max_depth=args.max_depth,
-                          spp_per_pass=args.spp_per_pass, on_pass=on_pass)
+        try:
+            return render_lux(scene, spp, seed=args.seed, plane=plane,
+                              max_depth=args.max_depth, spp_per_pass=args.spp_per_pass,
+                              on_pass=on_pass)
+        except ParameterError as e:
+            if plane is None:
+                raise
+            raise UsageError(f"--plane: {e}") from None  # surfaces hide the plane
 
 
 # -- lighting design: grids, points, luminance, glare, report ---------------------------------
@@ -248,10 +261,9 @@ def design_paths(args, scene_path: Path) -> dict[str, Path]:
 def run_design(args) -> int:
     import spectrace
     from spectrace import lux
-    from spectrace.errors import ParameterError
     from spectrace.images import check_writable
     from spectrace.lighting import grids, points, report
-    from spectrace.scene import parse_defines, read_scene_xml
+    from spectrace.scene import read_scene_xml
 
     scene_path = Path(args.scene)
     check_render_options(args)  # before loading anything

@@ -118,3 +118,14 @@ def test_spd_reflectance_beyond_one_warns(capsys):
     assert "warning: FL11 has values up to" in err and "not a reflectance" in err
     assert main(["spd", "dark skin"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("item", ["res", "=8"])
+def test_malformed_define_names_the_flag(tmp_path, capsys, item):
+    """-D without '=' or without a name is the command line's mistake: one line naming -D,
+    exit 2, nothing written (the scene is not even read)."""
+    out = tmp_path / "out" / "x.exr"
+    assert main(["render", str(SHOWCASE), "-D", item, "-o", str(out), "-q"]) == EXIT_USAGE
+    err = one_line_error(capsys)
+    assert f"-D {item!r}: expected name=value" in err, err
+    assert not out.parent.exists()
