@@ -26,7 +26,6 @@ Calculation grids, sensor points, luminance, glare and reports live in
 from __future__ import annotations
 
 import math
-import re
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -161,12 +160,10 @@ def true_units(root: ET.Element, params: dict[str, str]) -> dict[str, str]:
     """``params`` with the scene's display ``exposure`` set to 1 when the scene declares
     that ``<default>``, uses it (``$exposure``) and the user did not set it, so the lights
     are in their true units."""
+    from spectrace.scene import uses_parameter
+
     declared = any(d.get("name") == DISPLAY_EXPOSURE for d in root.iter("default"))
-    # Mitsuba refuses a parameter the scene never uses as $exposure
-    reference = re.compile(rf"\${DISPLAY_EXPOSURE}(?!\w)")
-    used = any(reference.search(value) for element in root.iter()
-               for value in element.attrib.values())
-    if declared and used and DISPLAY_EXPOSURE not in params:
+    if declared and uses_parameter(root, DISPLAY_EXPOSURE) and DISPLAY_EXPOSURE not in params:
         return {**params, DISPLAY_EXPOSURE: "1"}
     return params
 

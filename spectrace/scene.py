@@ -207,6 +207,13 @@ def plugin_names(tree: ET.Element, params: dict[str, str] | None = None) -> set[
             for element in tree.iter() if (kind := element.get("type"))}
 
 
+def uses_parameter(tree: ET.Element, name: str) -> bool:
+    """Whether an attribute of the tree refers to the parameter ``$name`` (Mitsuba refuses
+    a parameter given to a scene that never uses it)."""
+    return any(m.group(1) == name for element in tree.iter()
+               for value in element.attrib.values() for m in _PARAMETER.finditer(value))
+
+
 def scene_defaults(tree: ET.Element) -> dict[str, str]:
     """The scene's parameters: name -> value of every ``<default>`` in the tree."""
     return {d.get("name"): d.get("value", "") for d in tree.iter("default") if d.get("name")}

@@ -43,10 +43,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "unobstructed horizontal illuminance (and EN 17037 levels for a site "
                         "median diffuse illuminance E_MED in lux, if given)")
     design = parser.add_argument_group("lighting design")
-    design.add_argument("--grid", metavar="'x0,y0 x1,y1 @ h'",
+    design.add_argument("--grid", metavar="'x0,y0 x1,y1 @ h'|NAME",
                         help="calculation grid on the horizontal plane at height h (plan x = "
-                        "scene X, plan y = scene -Z, metres): OUT.csv (x,y,z,lux,stderr) and "
-                        "a plan-view PNG; prints Em, Emin, Emax, U0")
+                        "scene X, plan y = scene -Z, metres), or the name of a <default> of "
+                        "the scene that holds one: OUT.csv (x,y,z,lux,stderr) and a "
+                        "plan-view PNG; prints Em, Emin, Emax, U0")
     design.add_argument("--spacing", type=float, metavar="P",
                         help="grid spacing in m (default: EN 12464-1's 0.2 x 5^log10(d))")
     design.add_argument("--border", type=float, default=0.5, metavar="B",
@@ -188,8 +189,9 @@ def _render_with_progress(scene, spp, plane, args):
 
 # -- lighting design: grids, points, luminance, glare, report ---------------------------------
 
-def _check_design_options(args):
-    """Every option checked before anything is loaded or written (UsageError)."""
+def _check_design_options(args, defaults: dict[str, str]):
+    """Every option checked before anything is loaded or written (UsageError);
+    ``defaults``: the scene's parameters, where ``--grid NAME`` finds its grid."""
     import math
 
     from spectrace.lighting import grids
@@ -222,11 +224,23 @@ def _check_design_options(args):
     grid = None
     if args.grid is not None:
         try:
-            rectangle, height = grids.parse_grid(args.grid)
+            rectangle, height = grids.parse_grid(args.grid, defaults)
             grid = grids.make_grid(rectangle, height, args.border, args.spacing)
         except ValueError as e:
             raise UsageError(f"--grid: {e}") from None
     return grid
+
+
+def _without_grid(root, params: dict[str, str], grid: str | None) -> dict[str, str]:
+    """``params`` without ``-D NAME=...`` of ``--grid NAME`` when the scene itself does not
+    use ``$NAME`` (the grid is this command's, and Mitsuba refuses an unused parameter)."""
+    from spectrace.lighting.grids import grid_name
+    from spectrace.scene import uses_parameter
+
+    name = None if grid is None else grid_name(grid)
+    if name is None or name not in params or uses_parameter(root, name):
+        return params
+    return {k: v for k, v in params.items() if k != name}
 
 
 def design_paths(args, scene_path: Path) -> dict[str, Path]:
@@ -263,18 +277,18 @@ def run_design(args) -> int:
     from spectrace import lux
     from spectrace.images import check_writable
     from spectrace.lighting import grids, points, report
-    from spectrace.scene import read_scene_xml
+    from spectrace.scene import read_scene_xml, scene_defaults
 
     scene_path = Path(args.scene)
     check_render_options(args)  # before loading anything
-    grid = _check_design_options(args)
+    params = parse_defines(args.defines)
+    root = read_scene_xml(scene_path)  # --grid NAME: a <default> of the scene (or -D)
+    grid = _check_design_options(args, {**scene_defaults(root), **params})
     paths = design_paths(args, scene_path)
     point_data = None
     if args.points is not None:
         point_data = points.read_points_table(args.points)
-    params = parse_defines(args.defines)
-    root = read_scene_xml(scene_path)
-    params = lux.true_units(root, params)
+    params = lux.true_units(root, _without_grid(root, params, args.grid))
     try:
         lux.lux_scene_tree(root)
     except SpectraceError as e:

@@ -86,6 +86,27 @@ def test_grid_csv_plan_statistics_and_task(tmp_path, capsys):
         assert text in printed, (text, printed)
 
 
+def test_grid_named_by_a_default_of_the_scene(tmp_path, capsys):
+    """--grid workplane, where the scene has <default name="workplane" value="0,0 6,4 @
+    0.8"/>: the same 9 x 6 points and lux as the grid written out; -D workplane=... replaces
+    it as it replaces any <default>."""
+    scene = write_room(tmp_path, "")
+    scene.write_text(scene.read_text().replace(
+        '<default name="res" value="24"/>',
+        '<default name="res" value="24"/><default name="workplane" value="0,0 6,4 @ 0.8"/>'))
+    out = tmp_path / "named.csv"
+    base = ["lux", str(scene), "-o", str(out), "--variant", "llvm_ad_rgb", "-q"]
+    assert main([*base, "--grid", "workplane"]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert data.shape == (9 * 6, 5) and np.allclose(data[:, 1], 0.8)
+    np.testing.assert_allclose(data[:, 3], law(data[:, :3]), rtol=RTOL_EXACT)
+    assert "9 x 6 points" in capsys.readouterr().out
+    assert main([*base, "--grid", "workplane", "-D", "workplane=1,1 5,3 @ 0.5"]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.allclose(data[:, 1], 0.5) and data[:, 0].min() > 1.0
+    np.testing.assert_allclose(data[:, 3], law(data[:, :3]), rtol=RTOL_EXACT)
+
+
 def test_points_round_trip_and_kinds(tmp_path, capsys):
     """--points: the output repeats the input columns and adds lux and stderr (horizontal
     and vertical points of the closed form); --kind cylindrical gives I sin / (pi r^2)."""
@@ -141,6 +162,9 @@ BAD = {
     "grid_outside": (["--grid", "0,0 9,4 @ 0.8"], "lie outside the scene"),
     "grid_above": (["--grid", "0,0 6,4 @ 3.5"], "lie outside the scene"),
     "grid_malformed": (["--grid", "0,0 6,4"], "--grid"),
+    "grid_unknown_name": (["--grid", "desk"],
+                          "--grid: grid 'desk': the scene has no <default name='desk'>"),
+    "grid_name_no_grid": (["--grid", "res"], "--grid: <default name='res'>: grid '24'"),
     "zero_spacing": (["--grid", "0,0 6,4 @ 0.8", "--spacing", "0"], "--spacing must be > 0"),
     "mf_above_one": (["--grid", "0,0 6,4 @ 0.8", "--maintenance-factor", "1.2"],
                      "--maintenance-factor"),
