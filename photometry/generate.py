@@ -16,7 +16,6 @@ Type B files it is still given in Type C angles and sampled at the converted (H,
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -105,11 +104,13 @@ def _fmt(x: float) -> str:
 
 
 def _atomic_write(path: Path, data: bytes) -> Path:
+    """``data`` written to ``path`` (its folder made if needed) atomically."""
+    from spectrace.images import atomic_path
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_bytes(data)
     return path
 
 

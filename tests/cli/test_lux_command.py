@@ -7,6 +7,7 @@ import os
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 
 from spectrace.cli import main
 
@@ -53,14 +54,6 @@ def pixel_centres(res: int = RES) -> tuple[np.ndarray, np.ndarray]:
     """|x| and |z| (m) of the floor points at the pixel centres (the view is symmetric)."""
     c = (np.arange(res) + 0.5) / res * 2 * HALF_WIDTH - HALF_WIDTH
     return np.meshgrid(np.abs(c), np.abs(c))
-
-
-def assert_one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: "), err
-    assert "Traceback" not in "\n".join(err)
-    for word in words:
-        assert word in err[-1], (word, err[-1])
 
 
 def test_lux_writes_exr_png_and_prints_statistics(tmp_path, capsys):

@@ -12,6 +12,7 @@ import os
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 
 from spectrace.cli import main
 
@@ -196,9 +197,7 @@ def test_bad_input_exits_2_in_one_line_and_writes_nothing(tmp_path, capsys, monk
             "--report", str(tmp_path / "out" / "r.md")] if "--report" not in args else \
         ["lux", str(scene), *args, "-o", str(out), "--variant", "llvm_ad_rgb", "-q"]
     assert main(argv) == EXIT_USAGE
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: ") and words in err[-1], err
-    assert "Traceback" not in "\n".join(err)
+    assert_one_line_error(capsys, words)
     assert set(os.listdir(tmp_path)) == before
 
 
