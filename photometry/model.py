@@ -78,6 +78,8 @@ from pathlib import Path
 
 import numpy as np
 
+from spectrace.quadrature import trapezoid_weights
+
 #: The angular width (degrees) of the step from the last measured intensity to zero in
 #: :meth:`Photometry.type_c_grid` (outside the measured gamma range the intensity is 0).
 GRID_EDGE_STEP_DEG = 1e-3
@@ -479,11 +481,11 @@ class Photometry:
         I cos(H) dH dV for Type B)."""
         if self.photometric_type == "C":
             cgrid, table = self._c_table
-            wc = _trapezoid_weights(np.radians(cgrid))
+            wc = trapezoid_weights(np.radians(cgrid))
             wg = _linear_weights(np.radians(self.vertical_angles), "sin")
             return float(wc @ table @ wg)
         wh = _linear_weights(np.radians(self.horizontal_angles), "cos")
-        wv = _trapezoid_weights(np.radians(self.vertical_angles))
+        wv = trapezoid_weights(np.radians(self.vertical_angles))
         total = float(wh @ self.candela @ wv)
         for mirrored in self._b_mirrors:  # H (or V) from 0: the mirrored half below 0
             total *= 2.0 if mirrored else 1.0
@@ -509,7 +511,7 @@ class Photometry:
             g, rows = g_all[keep], table_all[:, keep]
             if g.size < 2:
                 return 0.0
-        wc = _trapezoid_weights(np.radians(cgrid))
+        wc = trapezoid_weights(np.radians(cgrid))
         return float(wc @ rows @ _linear_weights(np.radians(g), "sin"))
 
     @property
@@ -627,15 +629,6 @@ def _bilinear(xs, ys, table, x, y):
         + table[i + 1, j + 1] * tx * ty
     )
     return np.where(inside, value, 0.0)
-
-
-def _trapezoid_weights(x: np.ndarray) -> np.ndarray:
-    """w with sum(w f) = integral of the piecewise-linear f over [x0, xN]."""
-    w = np.zeros_like(x)
-    h = np.diff(x)
-    w[:-1] += h / 2
-    w[1:] += h / 2
-    return w
 
 
 def _linear_weights(x: np.ndarray, kind: str) -> np.ndarray:

@@ -43,9 +43,6 @@ MIN_MEASURED = 0.5
 PLANE_FORMAT = "'x,y,z nx,ny,nz' (a point and a normal, e.g. '0,0.85,0 0,1,0')"
 #: Camera rays per side of the grid on which :func:`check_plane_visible` looks for the plane.
 PLANE_CHECK_GRID = 33
-#: Film parameters carried over to the lux film (its geometry).
-KEPT_FILM_PARAMETERS = ("width", "height", "crop_offset_x", "crop_offset_y", "crop_width",
-                        "crop_height", "sample_border")
 #: Colour map of the false-colour PNG, and the colour of pixels without data.
 COLOUR_MAP = "viridis"
 NO_DATA_COLOUR = "0.55"
@@ -173,6 +170,8 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
     ``illuminance``, each sensor's film a box-filtered ``hdrfilm`` (pixel format
     ``luminance``) keeping the film's id and geometry (width, height, crop, values such as
     ``$res`` copied verbatim). Returns ``root``. ParameterError when it has no sensor."""
+    from spectrace.scene import new_film
+
     sensors = list(root.iter("sensor"))
     if not sensors:
         raise ParameterError("no <sensor> to measure from")
@@ -180,22 +179,10 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
         root.remove(old)
     root.insert(0, ET.Element("integrator", {"type": "illuminance"}))
     for sensor in sensors:
-        old = sensor.find("film")
-        film = ET.Element("film", {"type": "hdrfilm"})
-        if old is not None:
-            if "id" in old.attrib:
-                film.set("id", old.get("id"))
-            for child in old:
-                if child.get("name") in KEPT_FILM_PARAMETERS:
-                    film.append(child)
+        film = new_film(sensor, "hdrfilm")
         ET.SubElement(film, "string", {"name": "pixel_format", "value": "luminance"})
         ET.SubElement(film, "string", {"name": "component_format", "value": "float32"})
         ET.SubElement(film, "rfilter", {"type": "box"})
-        if old is None:
-            sensor.append(film)
-        else:
-            sensor.insert(list(sensor).index(old), film)
-            sensor.remove(old)
     return root
 
 

@@ -207,6 +207,31 @@ def plugin_names(tree: ET.Element, params: dict[str, str] | None = None) -> set[
             for element in tree.iter() if (kind := element.get("type"))}
 
 
+#: The film parameters a replacement film keeps (its geometry): :func:`new_film`.
+FILM_GEOMETRY = ("width", "height", "crop_offset_x", "crop_offset_y", "crop_width",
+                 "crop_height", "sample_border")
+
+
+def new_film(sensor: ET.Element, film_type: str, keep_rfilter: bool = False) -> ET.Element:
+    """Put a ``<film type=film_type>`` in ``sensor`` where its ``<film>`` was (appended when
+    it has none: Mitsuba's default film), keeping the old film's ``id`` and geometry
+    (:data:`FILM_GEOMETRY`; with ``keep_rfilter`` its ``<rfilter>``), values such as
+    ``$res`` copied verbatim. Returns the new film, for the caller's own parameters."""
+    old = sensor.find("film")
+    film = ET.Element("film", {"type": film_type})
+    if old is None:
+        sensor.append(film)
+        return film
+    if "id" in old.attrib:
+        film.set("id", old.get("id"))
+    for child in old:
+        if child.get("name") in FILM_GEOMETRY or (keep_rfilter and child.tag == "rfilter"):
+            film.append(child)
+    sensor.insert(list(sensor).index(old), film)
+    sensor.remove(old)
+    return film
+
+
 def uses_parameter(tree: ET.Element, name: str) -> bool:
     """Whether an attribute of the tree refers to the parameter ``$name`` (Mitsuba refuses
     a parameter given to a scene that never uses it)."""
