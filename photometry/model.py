@@ -78,6 +78,7 @@ from pathlib import Path
 
 import numpy as np
 
+from spectrace.errors import FileFormatError, ParameterError
 from spectrace.quadrature import trapezoid_weights
 
 #: The angular width (degrees) of the step from the last measured intensity to zero in
@@ -313,9 +314,10 @@ class Photometry:
             self.horizontal_angles.size, self.vertical_angles.size
         )
         if self.photometric_type not in ("C", "B"):
-            raise ValueError(f"photometric_type must be 'C' or 'B' (got {self.photometric_type!r})")
+            raise ParameterError(f"photometric_type must be 'C' or 'B' (got "
+                                 f"{self.photometric_type!r})")
         if self.symmetry not in SYMMETRIES:
-            raise ValueError(f"symmetry must be one of {SYMMETRIES} (got {self.symmetry!r})")
+            raise ParameterError(f"symmetry must be one of {SYMMETRIES} (got {self.symmetry!r})")
 
     def replace(self, **changes) -> Photometry:
         """A copy with some fields changed (e.g. ``candela`` scaled)."""
@@ -329,8 +331,6 @@ class Photometry:
         luminous area. Raises :class:`~spectrace.errors.FileFormatError` naming the file
         when the file's values are no shape (reading the file does not: the intensities
         stay usable)."""
-        from spectrace.errors import FileFormatError
-
         width, length, height = self.opening_m
         try:
             if self.format == "EULUMDAT":
@@ -402,8 +402,8 @@ class Photometry:
         if self.photometric_type == "C":
             gamma, c, table = self.type_c_grid()
             if gamma.size < 2:
-                raise ValueError(f"{self.path}: a Type C table needs two vertical angles or "
-                                 "more")
+                raise FileFormatError(f"{self.path}: a Type C table needs two vertical angles "
+                                      "or more")
             return AngleGrid("C", c, gamma, table)
         h, v, table = self.horizontal_angles, self.vertical_angles, self.candela
         mirror_h, mirror_v = self._b_mirrors
@@ -413,8 +413,8 @@ class Photometry:
             v = np.concatenate([-v[:0:-1], v])
             table = np.concatenate([table[:, :0:-1], table], axis=1)
         if h.size < 2 or v.size < 2:
-            raise ValueError(f"{self.path}: a Type B table needs two angles or more in each "
-                             "direction (it covers no solid angle)")
+            raise FileFormatError(f"{self.path}: a Type B table needs two angles or more in "
+                                  "each direction (it covers no solid angle)")
         return AngleGrid("B", v.copy(), h.copy(), np.ascontiguousarray(table.T))
 
     # ---------------------------------------------------------------- evaluation
@@ -468,7 +468,7 @@ class Photometry:
             return np.concatenate(gammas), cgrid.copy(), np.concatenate(cols, axis=1)
         step = TYPE_B_GRID_STEP_DEG if step is None else float(step)
         if not step > 0:
-            raise ValueError(f"type_c_grid: step must be > 0 (got {step})")
+            raise ParameterError(f"type_c_grid: step must be > 0 (got {step})")
         gamma = np.linspace(0.0, 180.0, int(round(180.0 / step)) + 1)
         c = np.linspace(0.0, 360.0, int(round(360.0 / step)) + 1)
         return gamma, c, self.intensity(gamma[None, :], c[:, None])
