@@ -69,7 +69,8 @@ def main() -> None:
               f"throughput 1024 / 64 = {hi['msps'] / lo['msps']:.2f}")
     rgb = [r for v, s, r in rows if v == VARIANTS[0] and s == SPPS[-1]][0]
     spec = [r for v, s, r in rows if v == VARIANTS[1] and s == SPPS[-1]][0]
-    print(f"spectral / RGB render time at {SPPS[-1]} spp = {spec['render_s'] / rgb['render_s']:.2f}")
+    print(f"spectral / RGB render time at {SPPS[-1]} spp = "
+          f"{spec['render_s'] / rgb['render_s']:.2f}")
 
 
 if __name__ == "__main__":

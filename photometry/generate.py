@@ -16,10 +16,11 @@ Type B files it is still given in Type C angles and sampled at the converted (H,
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
+
+from spectrace.errors import ParameterError
 
 from .eulumdat import stored_planes
 from .model import Photometry, type_b_to_c, type_c_to_b
@@ -105,11 +106,13 @@ def _fmt(x: float) -> str:
 
 
 def _atomic_write(path: Path, data: bytes) -> Path:
+    """``data`` written to ``path`` (its folder made if needed) atomically."""
+    from spectrace.images import atomic_path
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_bytes(data)
     return path
 
 
@@ -147,7 +150,7 @@ def write_ies(
     ``separator`` (" " or ", ") lay out the numbers. Latin-1 encoded.
     """
     if version not in HEADER_LINES:
-        raise ValueError(f"write_ies: unknown version {version!r}")
+        raise ParameterError(f"write_ies: unknown version {version!r}")
     vertical = np.asarray(vertical_angles, np.float64)
     horizontal = np.asarray(horizontal_angles, np.float64)
     table = np.asarray(candela, np.float64).reshape(horizontal.size, vertical.size)
@@ -206,7 +209,7 @@ def ldt_stored_planes(isym: int, mc: int) -> np.ndarray:
     file's order: Mc1..Mc2 of the EULUMDAT description (Isym 3: from C270 through C0 to
     C90, wrapping past the last index)."""
     if isym not in LDT_SYMMETRY:
-        raise ValueError(f"ldt_stored_planes: Isym must be 0..4 (got {isym})")
+        raise ParameterError(f"ldt_stored_planes: Isym must be 0..4 (got {isym})")
     return stored_planes(isym, mc)
 
 

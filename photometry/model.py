@@ -78,6 +78,9 @@ from pathlib import Path
 
 import numpy as np
 
+from spectrace.errors import FileFormatError, ParameterError
+from spectrace.quadrature import trapezoid_weights
+
 #: The angular width (degrees) of the step from the last measured intensity to zero in
 #: :meth:`Photometry.type_c_grid` (outside the measured gamma range the intensity is 0).
 GRID_EDGE_STEP_DEG = 1e-3
@@ -311,9 +314,10 @@ class Photometry:
             self.horizontal_angles.size, self.vertical_angles.size
         )
         if self.photometric_type not in ("C", "B"):
-            raise ValueError(f"photometric_type must be 'C' or 'B' (got {self.photometric_type!r})")
+            raise ParameterError(f"photometric_type must be 'C' or 'B' (got "
+                                 f"{self.photometric_type!r})")
         if self.symmetry not in SYMMETRIES:
-            raise ValueError(f"symmetry must be one of {SYMMETRIES} (got {self.symmetry!r})")
+            raise ParameterError(f"symmetry must be one of {SYMMETRIES} (got {self.symmetry!r})")
 
     def replace(self, **changes) -> Photometry:
         """A copy with some fields changed (e.g. ``candela`` scaled)."""
@@ -327,8 +331,6 @@ class Photometry:
         luminous area. Raises :class:`~spectrace.errors.FileFormatError` naming the file
         when the file's values are no shape (reading the file does not: the intensities
         stay usable)."""
-        from spectrace.errors import FileFormatError
-
         width, length, height = self.opening_m
         try:
             if self.format == "EULUMDAT":
@@ -400,8 +402,8 @@ class Photometry:
         if self.photometric_type == "C":
             gamma, c, table = self.type_c_grid()
             if gamma.size < 2:
-                raise ValueError(f"{self.path}: a Type C table needs two vertical angles or "
-                                 "more")
+                raise FileFormatError(f"{self.path}: a Type C table needs two vertical angles "
+                                      "or more")
             return AngleGrid("C", c, gamma, table)
         h, v, table = self.horizontal_angles, self.vertical_angles, self.candela
         mirror_h, mirror_v = self._b_mirrors
@@ -411,8 +413,8 @@ class Photometry:
             v = np.concatenate([-v[:0:-1], v])
             table = np.concatenate([table[:, :0:-1], table], axis=1)
         if h.size < 2 or v.size < 2:
-            raise ValueError(f"{self.path}: a Type B table needs two angles or more in each "
-                             "direction (it covers no solid angle)")
+            raise FileFormatError(f"{self.path}: a Type B table needs two angles or more in "
+                                  "each direction (it covers no solid angle)")
         return AngleGrid("B", v.copy(), h.copy(), np.ascontiguousarray(table.T))
 
     # ---------------------------------------------------------------- evaluation
@@ -466,7 +468,7 @@ class Photometry:
             return np.concatenate(gammas), cgrid.copy(), np.concatenate(cols, axis=1)
         step = TYPE_B_GRID_STEP_DEG if step is None else float(step)
         if not step > 0:
-            raise ValueError(f"type_c_grid: step must be > 0 (got {step})")
+            raise ParameterError(f"type_c_grid: step must be > 0 (got {step})")
         gamma = np.linspace(0.0, 180.0, int(round(180.0 / step)) + 1)
         c = np.linspace(0.0, 360.0, int(round(360.0 / step)) + 1)
         return gamma, c, self.intensity(gamma[None, :], c[:, None])
@@ -479,11 +481,11 @@ class Photometry:
         I cos(H) dH dV for Type B)."""
         if self.photometric_type == "C":
             cgrid, table = self._c_table
-            wc = _trapezoid_weights(np.radians(cgrid))
+            wc = trapezoid_weights(np.radians(cgrid))
             wg = _linear_weights(np.radians(self.vertical_angles), "sin")
             return float(wc @ table @ wg)
         wh = _linear_weights(np.radians(self.horizontal_angles), "cos")
-        wv = _trapezoid_weights(np.radians(self.vertical_angles))
+        wv = trapezoid_weights(np.radians(self.vertical_angles))
         total = float(wh @ self.candela @ wv)
         for mirrored in self._b_mirrors:  # H (or V) from 0: the mirrored half below 0
             total *= 2.0 if mirrored else 1.0
@@ -509,7 +511,7 @@ class Photometry:
             g, rows = g_all[keep], table_all[:, keep]
             if g.size < 2:
                 return 0.0
-        wc = _trapezoid_weights(np.radians(cgrid))
+        wc = trapezoid_weights(np.radians(cgrid))
         return float(wc @ rows @ _linear_weights(np.radians(g), "sin"))
 
     @property
@@ -627,15 +629,6 @@ def _bilinear(xs, ys, table, x, y):
         + table[i + 1, j + 1] * tx * ty
     )
     return np.where(inside, value, 0.0)
-
-
-def _trapezoid_weights(x: np.ndarray) -> np.ndarray:
-    """w with sum(w f) = integral of the piecewise-linear f over [x0, xN]."""
-    w = np.zeros_like(x)
-    h = np.diff(x)
-    w[:-1] += h / 2
-    w[1:] += h / 2
-    return w
 
 
 def _linear_weights(x: np.ndarray, kind: str) -> np.ndarray:

@@ -26,7 +26,7 @@ import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from spectrace.errors import FileAccessError, FileFormatError, first_line
+from spectrace.errors import FileAccessError, FileFormatError, ParameterError, first_line
 
 if TYPE_CHECKING:
     import numpy as np
@@ -289,8 +289,8 @@ def write_png_codes(path, codes, cicp: bytes | None = None) -> None:
 
     codes = np.asarray(codes)
     if codes.ndim != 3 or codes.shape[-1] != 3 or codes.dtype not in (np.uint8, np.uint16):
-        raise ValueError(f"write_png_codes: codes must be (H, W, 3) uint8 or uint16 "
-                         f"(got {codes.shape} {codes.dtype})")
+        raise ParameterError(f"write_png_codes: codes must be (H, W, 3) uint8 or uint16 "
+                             f"(got {codes.shape} {codes.dtype})")
     height, width = codes.shape[:2]
     bits = 8 * codes.dtype.itemsize
     rows = codes.astype(codes.dtype.newbyteorder(">"), copy=False).view(np.uint8)

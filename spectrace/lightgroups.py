@@ -47,13 +47,11 @@ RGB over the old one is wrong for coloured surfaces (metamerism).
 from __future__ import annotations
 
 import math
-import os
 import re
-import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from spectrace.errors import FileAccessError, FileFormatError, ParameterError
+from spectrace.errors import FileFormatError, ParameterError
 
 #: A group (layer) name.
 GROUP_NAME = re.compile(r"[A-Za-z0-9_-]+")
@@ -238,21 +236,6 @@ def split(pixels, names: list[str], per_layer: int = 3):
 
 # -- files -------------------------------------------------------------------------------
 
-def _atomic_write(path: Path, write) -> None:
-    """``write(tmp)`` to a temporary file beside ``path``, then renamed over it."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".tmp.exr", dir=path.parent)
-    os.close(fd)
-    try:
-        write(tmp)
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-
-
 def _layer_channels(beauty, layers: Mapping, names: list[str]) -> dict:
     """Float32 channels: ``names`` of the beauty, ``<group>.<name>`` of each layer."""
     import numpy as np
@@ -269,36 +252,13 @@ def _layer_channels(beauty, layers: Mapping, names: list[str]) -> dict:
 def _write_channels(path, channels: dict, attributes: dict, header: Mapping | None,
                     groups) -> Path:
     """The channels as a ZIP-compressed scanline EXR with the attributes, the extra header
-    and ``lightGroups``, atomically."""
-    import OpenEXR
+    and ``lightGroups``, atomically (:func:`spectrace.images.write_exr_channels`)."""
+    from spectrace.images import write_exr_channels
 
     path = Path(path)
-    hdr = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
-           **attributes}
-    hdr.update(header or {})
-    hdr["lightGroups"] = ",".join(groups)
-
-    def write(tmp):
-        with OpenEXR.File(hdr, channels) as f:
-            f.write(tmp)
-
-    _atomic_write(path, write)
+    write_exr_channels(path, channels,
+                       {**attributes, **(header or {}), "lightGroups": ",".join(groups)})
     return path
-
-
-def _read_channels(path) -> tuple[dict, dict]:
-    """(header, channel name -> pixels) of an EXR; FileAccessError for a missing file,
-    FileFormatError for an unreadable one."""
-    import OpenEXR
-
-    path = Path(path)
-    if not path.is_file():
-        raise FileAccessError(f"{path}: no such file")
-    try:
-        with OpenEXR.File(str(path), separate_channels=True) as f:
-            return dict(f.header()), {k: v.pixels for k, v in f.channels().items()}
-    except Exception as e:  # OpenEXR raises RuntimeError/OSError on broken files
-        raise FileFormatError(f"{path}: not a readable OpenEXR file ({e})") from None
 
 
 def write_layers_exr(path, beauty, layers: Mapping, header: Mapping | None = None) -> Path:
@@ -314,8 +274,10 @@ def read_layers_exr(path):
     FileFormatError for one without R, G, B or without layers."""
     import numpy as np
 
+    from spectrace.images import read_exr_channels
+
     path = Path(path)
-    header, channels = _read_channels(path)
+    channels, header = read_exr_channels(path)
     channels = {k: np.asarray(v, dtype=np.float32) for k, v in channels.items()}
     if not all(c in channels for c in CHANNELS):
         raise FileFormatError(f"{path}: no R, G, B channels")
@@ -495,15 +457,16 @@ def read_spectral_layers_exr(path):
     FileFormatError for one without spectral layers."""
     import numpy as np
 
+    from spectrace.images import read_exr_channels
     from spectrace.spectral.exr import spectral_channel_name
 
     path = Path(path)
-    header, channels = _read_channels(path)
+    channels, header = read_exr_channels(path)
     names = [g for g in str(header.get("lightGroups", "")).split(",") if g]
     text = header.get("bandWavelengths")
     if not names or text is None:
         raise FileFormatError(f"{path}: no spectral light-group layers (<group>.S0.*); "
-                              "render it with --film spectral and light groups")
+                              "render it with a spectral film and light groups")
     wavelengths = np.array([float(v) for v in str(text).split(",")])
     bands = {}
     for prefix in ["", *(f"{g}." for g in names)]:

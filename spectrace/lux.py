@@ -26,7 +26,6 @@ Calculation grids, sensor points, luminance, glare and reports live in
 from __future__ import annotations
 
 import math
-import re
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -44,9 +43,6 @@ MIN_MEASURED = 0.5
 PLANE_FORMAT = "'x,y,z nx,ny,nz' (a point and a normal, e.g. '0,0.85,0 0,1,0')"
 #: Camera rays per side of the grid on which :func:`check_plane_visible` looks for the plane.
 PLANE_CHECK_GRID = 33
-#: Film parameters carried over to the lux film (its geometry).
-KEPT_FILM_PARAMETERS = ("width", "height", "crop_offset_x", "crop_offset_y", "crop_width",
-                        "crop_height", "sample_border")
 #: Colour map of the false-colour PNG, and the colour of pixels without data.
 COLOUR_MAP = "viridis"
 NO_DATA_COLOUR = "0.55"
@@ -107,35 +103,41 @@ def _floats(text: str, count: int) -> list[float] | None:
     return values if all(math.isfinite(v) for v in values) else None
 
 
-def parse_plane(text: str) -> Plane:
-    """``"x,y,z nx,ny,nz"`` -> ((x, y, z), unit normal). ParameterError when malformed."""
+def parse_plane(text: str, name: str = "plane") -> Plane:
+    """``"x,y,z nx,ny,nz"`` -> ((x, y, z), unit normal). ParameterError when malformed, the
+    message calling the value ``name`` (the command line gives its flag)."""
     parts = str(text).split()
     point = _floats(parts[0], 3) if len(parts) == 2 else None
     normal = _floats(parts[1], 3) if len(parts) == 2 else None
     if point is None or normal is None:
-        raise ParameterError(f"--plane {text!r}: expected {PLANE_FORMAT}")
+        raise ParameterError(f"{name} {text!r}: expected {PLANE_FORMAT}")
     if max(abs(c) for c in point) > FLOAT32_MAX:
-        raise ParameterError(f"--plane {text!r}: the point's coordinates must be at most "
-                        f"{FLOAT32_MAX:.3g} in magnitude (the renderer computes in float32)")
+        raise ParameterError(f"{name} {text!r}: the point's coordinates must be at most "
+                             f"{FLOAT32_MAX:.3g} in magnitude (the renderer computes in "
+                             "float32)")
     # scaled by its largest component first: no overflow or underflow in the length
     big = max(abs(c) for c in normal)
     scaled = [c / big for c in normal] if big > 0.0 else normal
     length = math.sqrt(sum(c * c for c in scaled))
     if not length > 0.0:
-        raise ParameterError(f"--plane {text!r}: the normal must not be zero")
+        raise ParameterError(f"{name} {text!r}: the normal must not be zero")
     return tuple(point), tuple(c / length for c in scaled)
 
 
-def parse_range(text: str, log: bool = False) -> tuple[float, float]:
-    """``"MIN,MAX"`` (lux) -> (MIN, MAX) with 0 <= MIN < MAX (0 < MIN with ``log``)."""
+def parse_range(text: str, log: bool = False,
+                names: tuple[str, str] = ("value_range", "log")) -> tuple[float, float]:
+    """``"MIN,MAX"`` (lux) -> (MIN, MAX) with 0 <= MIN < MAX (0 < MIN with ``log``).
+    ParameterError otherwise; ``names`` are what the message calls ``text`` and ``log``
+    (the command line gives its flags)."""
+    name, log_name = names
     values = _floats(str(text), 2)
     if values is None:
-        raise ParameterError(f"--range {text!r}: expected MIN,MAX in lux (e.g. 0,500)")
+        raise ParameterError(f"{name} {text!r}: expected MIN,MAX in lux (e.g. 0,500)")
     low, high = values
     if not 0.0 <= low < high:
-        raise ParameterError(f"--range {text!r}: expected 0 <= MIN < MAX")
+        raise ParameterError(f"{name} {text!r}: expected 0 <= MIN < MAX")
     if log and not low > 0.0:
-        raise ParameterError(f"--range {text!r}: --log needs MIN > 0")
+        raise ParameterError(f"{name} {text!r}: {log_name} needs MIN > 0")
     return low, high
 
 
@@ -155,12 +157,10 @@ def true_units(root: ET.Element, params: dict[str, str]) -> dict[str, str]:
     """``params`` with the scene's display ``exposure`` set to 1 when the scene declares
     that ``<default>``, uses it (``$exposure``) and the user did not set it, so the lights
     are in their true units."""
+    from spectrace.scene import uses_parameter
+
     declared = any(d.get("name") == DISPLAY_EXPOSURE for d in root.iter("default"))
-    # Mitsuba refuses a parameter the scene never uses as $exposure
-    reference = re.compile(rf"\${DISPLAY_EXPOSURE}(?!\w)")
-    used = any(reference.search(value) for element in root.iter()
-               for value in element.attrib.values())
-    if declared and used and DISPLAY_EXPOSURE not in params:
+    if declared and uses_parameter(root, DISPLAY_EXPOSURE) and DISPLAY_EXPOSURE not in params:
         return {**params, DISPLAY_EXPOSURE: "1"}
     return params
 
@@ -170,6 +170,8 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
     ``illuminance``, each sensor's film a box-filtered ``hdrfilm`` (pixel format
     ``luminance``) keeping the film's id and geometry (width, height, crop, values such as
     ``$res`` copied verbatim). Returns ``root``. ParameterError when it has no sensor."""
+    from spectrace.scene import new_film
+
     sensors = list(root.iter("sensor"))
     if not sensors:
         raise ParameterError("no <sensor> to measure from")
@@ -177,22 +179,10 @@ def lux_scene_tree(root: ET.Element) -> ET.Element:
         root.remove(old)
     root.insert(0, ET.Element("integrator", {"type": "illuminance"}))
     for sensor in sensors:
-        old = sensor.find("film")
-        film = ET.Element("film", {"type": "hdrfilm"})
-        if old is not None:
-            if "id" in old.attrib:
-                film.set("id", old.get("id"))
-            for child in old:
-                if child.get("name") in KEPT_FILM_PARAMETERS:
-                    film.append(child)
+        film = new_film(sensor, "hdrfilm")
         ET.SubElement(film, "string", {"name": "pixel_format", "value": "luminance"})
         ET.SubElement(film, "string", {"name": "component_format", "value": "float32"})
         ET.SubElement(film, "rfilter", {"type": "box"})
-        if old is None:
-            sensor.append(film)
-        else:
-            sensor.insert(list(sensor).index(old), film)
-            sensor.remove(old)
     return root
 
 
@@ -219,10 +209,10 @@ def illuminance_integrator(plane: Plane | None = None, max_depth: int | None = N
         raise load_error(e) from None
 
 
-def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
+def check_plane_visible(scene, plane: Plane, sensor=0, name: str = "plane") -> None:
     """ParameterError unless some camera ray of a PLANE_CHECK_GRID^2 grid over the film of
     ``sensor`` (an index into the scene's sensors, or a sensor) crosses the plane in front
-    of the camera (not parallel to it, not behind)."""
+    of the camera (not parallel to it, not behind); the message calls the plane ``name``."""
     import drjit as dr
     import mitsuba as mi
 
@@ -241,8 +231,8 @@ def check_plane_visible(scene, plane: Plane, sensor=0) -> None:
         parallel = bool(dr.all(dr.abs(cos) <= 1e-6))
         why = "it is parallel to the view" if parallel else \
             "it is behind the camera or parallel to the view"
-        raise ParameterError(f"--plane {plane_string(plane)!r}: the camera sees no point of the "
-                        f"plane ({why})")
+        raise ParameterError(f"{name} {plane_string(plane)!r}: the camera sees no point of "
+                             f"the plane ({why})")
 
 
 # -- rendering and statistics ----------------------------------------------------------------
@@ -285,8 +275,8 @@ def render_lux(scene, spp: int, seed: int = 0, plane: Plane | None = None,
     lux = np.where(valid, total / np.where(valid, measured, 1.0), 0.0).astype(np.float32)
     if result.spp == 0 or not valid.any():
         if plane is not None:
-            raise ParameterError(f"--plane {plane_string(plane)!r}: no pixel sees the plane "
-                            "(surfaces hide it from the camera)")
+            raise ParameterError(f"plane {plane_string(plane)!r}: no pixel sees the plane "
+                                 "(surfaces hide it from the camera)")
     low, mean, high, u0 = lux_statistics(lux, valid)
     return LuxMap(lux, valid, low, mean, high, u0, result.spp, result.seconds,
                   result.interrupted, result.nonfinite, plane,

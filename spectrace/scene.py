@@ -56,17 +56,6 @@ def load_error(error: BaseException) -> SpectraceError:
     return FileFormatError("; ".join(ln for ln in lines if ln).replace(":;", ":"))
 
 
-def parse_defines(defines: list[str] | None) -> dict[str, str]:
-    """``["name=value", ...]`` from ``-D`` options -> dict."""
-    params = {}
-    for item in defines or []:
-        name, sep, value = item.partition("=")
-        if not sep or not name.strip():
-            raise ParameterError(f"-D {item!r}: expected name=value")
-        params[name.strip()] = value
-    return params
-
-
 def read_scene_xml(path: str | Path) -> ET.Element:
     """Parse the scene file; a missing file is a FileAccessError, a malformed one a
     FileFormatError, naming it."""
@@ -224,19 +213,52 @@ def plugin_names(tree: ET.Element, params: dict[str, str] | None = None) -> set[
             for element in tree.iter() if (kind := element.get("type"))}
 
 
+#: The film parameters a replacement film keeps (its geometry): :func:`new_film`.
+FILM_GEOMETRY = ("width", "height", "crop_offset_x", "crop_offset_y", "crop_width",
+                 "crop_height", "sample_border")
+
+
+def new_film(sensor: ET.Element, film_type: str, keep_rfilter: bool = False) -> ET.Element:
+    """Put a ``<film type=film_type>`` in ``sensor`` where its ``<film>`` was (appended when
+    it has none: Mitsuba's default film), keeping the old film's ``id`` and geometry
+    (:data:`FILM_GEOMETRY`; with ``keep_rfilter`` its ``<rfilter>``), values such as
+    ``$res`` copied verbatim. Returns the new film, for the caller's own parameters."""
+    old = sensor.find("film")
+    film = ET.Element("film", {"type": film_type})
+    if old is None:
+        sensor.append(film)
+        return film
+    if "id" in old.attrib:
+        film.set("id", old.get("id"))
+    for child in old:
+        if child.get("name") in FILM_GEOMETRY or (keep_rfilter and child.tag == "rfilter"):
+            film.append(child)
+    sensor.insert(list(sensor).index(old), film)
+    sensor.remove(old)
+    return film
+
+
+def uses_parameter(tree: ET.Element, name: str) -> bool:
+    """Whether an attribute of the tree refers to the parameter ``$name`` (Mitsuba refuses
+    a parameter given to a scene that never uses it)."""
+    return any(m.group(1) == name for element in tree.iter()
+               for value in element.attrib.values() for m in _PARAMETER.finditer(value))
+
+
 def scene_defaults(tree: ET.Element) -> dict[str, str]:
     """The scene's parameters: name -> value of every ``<default>`` in the tree."""
     return {d.get("name"): d.get("value", "") for d in tree.iter("default") if d.get("name")}
 
 
 def _unused_parameters(path: Path, tree: ET.Element, message: str) -> str:
-    """-D naming parameters the scene does not have: name them and list the scene's own."""
+    """``params`` naming parameters the scene does not have: name them and list the scene's
+    own."""
     names = sorted(set(re.findall(r"\$(\w+)=", message)))
-    named = ", ".join(f"'{n}'" for n in names) or "some -D parameters"
+    named = ", ".join(f"'{n}'" for n in names) or "some of the given ones"
     defaults = scene_defaults(tree)
     has = (f"its parameters (<default>): {', '.join(f'{k}={v}' for k, v in defaults.items())}"
            if defaults else "it has no <default> parameters")
-    return f"scene {path}: -D {named}: the scene has no such parameter; {has}"
+    return f"scene {path}: parameter {named}: the scene has no such parameter; {has}"
 
 
 #: Mitsuba's words for a plugin that needs (or refuses) a polarized variant.
@@ -261,13 +283,13 @@ def polarized_variant(variant: str, polarized: bool) -> str:
 
 
 def _variant_hint(message: str) -> str:
-    """'; render it with --variant V' when a plugin needs another polarization mode."""
+    """'; it needs the variant V' when a plugin needs another polarization mode."""
     import mitsuba as mi
 
     if _NEEDS_POLARIZED in message:
-        return f"; render it with --variant {polarized_variant(mi.variant(), True)}"
+        return f"; it needs the variant {polarized_variant(mi.variant(), True)}"
     if _REFUSES_POLARIZED in message:
-        return f"; render it with --variant {polarized_variant(mi.variant(), False)}"
+        return f"; it needs the variant {polarized_variant(mi.variant(), False)}"
     return ""
 
 

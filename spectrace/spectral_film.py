@@ -63,16 +63,6 @@ __all__ = [
     "replace_film",
 ]
 
-#: Film parameters carried over from the original film (geometry; the rfilter child too).
-KEPT_PARAMETERS = (
-    "width",
-    "height",
-    "crop_offset_x",
-    "crop_offset_y",
-    "crop_width",
-    "crop_height",
-    "sample_border",
-)
 BAND_NAME = "band{:03d}"  # zero-padded: specfilm orders channels by name, = wavelength order
 
 
@@ -148,14 +138,10 @@ def _numbers(a) -> str:
     return ", ".join(np.format_float_positional(float(x), trim="-") for x in a)
 
 
-def _specfilm(old: ET.Element | None, bands, wavelength_range) -> ET.Element:
-    film = ET.Element("film", {"type": "specfilm"})
-    if old is not None:
-        if "id" in old.attrib:
-            film.set("id", old.get("id"))
-        for child in old:
-            if child.get("name") in KEPT_PARAMETERS or child.tag == "rfilter":
-                film.append(child)
+def _specfilm(sensor: ET.Element, bands, wavelength_range) -> ET.Element:
+    from spectrace.scene import new_film
+
+    film = new_film(sensor, "specfilm", keep_rfilter=True)
     ET.SubElement(film, "string", {"name": "component_format", "value": "float32"})
     for i, (wl, values) in enumerate(band_responses(bands, wavelength_range)):
         srf = ET.SubElement(film, "spectrum", {"type": "irregular", "name": BAND_NAME.format(i)})
@@ -181,13 +167,7 @@ def replace_film(root: ET.Element, bands: int = 16, wavelength_range=(400.0, 700
     if not sensors:
         raise ParameterError("the scene has no <sensor>: a spectral film needs one")
     for sensor in sensors:
-        old = sensor.find("film")
-        new = _specfilm(old, bands, wavelength_range)
-        if old is None:
-            sensor.append(new)
-        else:
-            sensor.insert(list(sensor).index(old), new)
-            sensor.remove(old)
+        _specfilm(sensor, bands, wavelength_range)
     return centres
 
 

@@ -33,6 +33,7 @@ import colour
 import numpy as np
 
 from spectrace.errors import ParameterError
+from spectrace.quadrature import trapezoid_weights
 
 from .srgb import decode_srgb, encode_srgb
 
@@ -168,14 +169,6 @@ def _hat_project(wl: np.ndarray, grid: np.ndarray, f: np.ndarray):
     return out
 
 
-def _trapezoid_weights(x: np.ndarray) -> np.ndarray:
-    q = np.zeros_like(x)
-    d = np.diff(x)
-    q[:-1] += d / 2
-    q[1:] += d / 2
-    return q
-
-
 def _interp_const(x, xp, fp):
     """Linear interpolation, constant beyond the ends (CIE 015 extrapolation)."""
     return np.interp(x, xp, fp, left=fp[0], right=fp[-1])
@@ -226,12 +219,12 @@ def _weights_cached(wl_bytes: bytes, observer_key: str, illum_key, extrapolation
         else:
             iwl, iv = (np.frombuffer(b, dtype=np.float64) for b in illum_key)
         illum_g = _interp_const(grid, iwl, iv)
-    q = _trapezoid_weights(grid) * illum_g
+    q = trapezoid_weights(grid) * illum_g
     k = 1.0 / np.sum(q * cmf_g[:, 1])
     if extrapolation == "zero":  # the SPD stops at its end samples: integrate only over them
         sub = (grid >= wl[0]) & (grid <= wl[-1])
         grid, illum_g, cmf_g = grid[sub], illum_g[sub], cmf_g[sub]
-        q = _trapezoid_weights(grid) * illum_g if grid.size > 1 else np.zeros(grid.size)
+        q = trapezoid_weights(grid) * illum_g if grid.size > 1 else np.zeros(grid.size)
     weights = _hat_project(wl, grid, q[:, None] * cmf_g) * k
     weights.setflags(write=False)
     return weights

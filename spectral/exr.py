@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from spectrace.errors import FileFormatError
+from spectrace.errors import FileFormatError, ParameterError
 
 from .colorimetry import check_spd
 from .image import spectral_image_to_linear_srgb
@@ -91,15 +91,16 @@ def write_spectral_exr(
     :func:`spectrace.spectral_film.bands_to_linear_srgb`, so the preview matches the RGB
     output). ``half`` stores float16 instead of
     float32. ``attributes``: extra header entries (e.g. the sample count). Values are
-    written as given; NaN/inf raise ``ValueError``. Returns the path.
+    written as given; NaN/inf raise ``ParameterError`` (a ``ValueError``). Returns the path.
     """
     if kind not in KINDS:
-        raise ValueError(
+        raise ParameterError(
             f"write_spectral_exr: kind must be one of {', '.join(KINDS)} (got {kind!r})"
         )
     wl, img = check_spd(wavelengths, image, "write_spectral_exr")
     if img.ndim != 3:
-        raise ValueError(f"write_spectral_exr: image must have shape (H, W, N) (got {img.shape})")
+        raise ParameterError(
+            f"write_spectral_exr: image must have shape (H, W, N) (got {img.shape})")
     dtype = np.float16 if half else np.float32
     channels = {spectral_channel_name(w, kind): img[..., i] for i, w in enumerate(wl)}
     if isinstance(preview, bool):
@@ -110,7 +111,7 @@ def write_spectral_exr(
     else:
         rgb = np.asarray(preview)
         if rgb.shape != img.shape[:2] + (3,):
-            raise ValueError(
+            raise ParameterError(
                 f"write_spectral_exr: preview must have shape {img.shape[:2] + (3,)} "
                 f"(got {rgb.shape})"
             )

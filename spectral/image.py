@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from spectrace.errors import ParameterError
+
 from .colorimetry import _M_XYZ_TO_RGB, CIE_1931_2, check_wavelengths, xyz_weights
 
 #: pixels per block of the matrix product (with 31 float32 bands: 8 MiB)
@@ -24,9 +26,9 @@ def _apply(image, wavelengths, matrix_fn, where, check_finite):
     wl = check_wavelengths(wavelengths, where)
     img = np.asarray(image)
     if img.ndim == 0 or img.size == 0:
-        raise ValueError(f"{where}: image is empty (shape {img.shape})")
+        raise ParameterError(f"{where}: image is empty (shape {img.shape})")
     if img.shape[-1] != wl.size:
-        raise ValueError(
+        raise ParameterError(
             f"{where}: image has {img.shape[-1]} channels on its last axis but there are "
             f"{wl.size} wavelengths / weight rows (mismatched lengths)"
         )
@@ -43,7 +45,7 @@ def _apply(image, wavelengths, matrix_fn, where, check_finite):
     # NaN/inf in any band shows up in the (10x smaller) result: check there, not the input.
     if check_finite and not np.isfinite(out).all():
         bad = np.argwhere(~np.isfinite(out).all(axis=-1))[0]
-        raise ValueError(
+        raise ParameterError(
             f"{where}: image contains NaN or infinite values (first at index {tuple(bad)})"
         )
     return out
@@ -54,11 +56,12 @@ def apply_spectral_weights(image, weights, check_finite: bool = True) -> np.ndar
 
     The kernel behind :func:`spectral_image_to_xyz`, for precomputed weight matrices
     (e.g. the band deconvolution of :mod:`spectrace.spectral_film`). float32 images stay
-    float32. Shapes are checked; NaN/inf raise ``ValueError`` as in spectral_image_to_xyz.
+    float32. Shapes are checked; NaN/inf raise ``ParameterError`` as in spectral_image_to_xyz.
     """
     w = np.asarray(weights, np.float64)
     if w.ndim != 2:
-        raise ValueError(f"apply_spectral_weights: weights must be (N, C) (got shape {w.shape})")
+        raise ParameterError(
+            f"apply_spectral_weights: weights must be (N, C) (got shape {w.shape})")
     return _apply(
         image, np.arange(1.0, w.shape[0] + 1), lambda wl: w, "apply_spectral_weights", check_finite
     )
@@ -77,7 +80,8 @@ def spectral_image_to_xyz(
     Same normalisation and conventions as :func:`spd_to_xyz` (emissive: Y of a constant
     spectrum 1 is 1; reflective under ``illuminant``: Y of a perfect white is 1). float32
     images give float32 XYZ (the weights are cast to float32), others float64. With
-    ``check_finite`` a NaN/inf value anywhere raises ``ValueError`` (checked on the result).
+    ``check_finite`` a NaN/inf value anywhere raises ``ParameterError``, a ``ValueError``
+    (checked on the result).
     """
     return _apply(
         image,

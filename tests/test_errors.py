@@ -5,6 +5,7 @@ first-line helper, and a plugin's error handed back through Mitsuba's loader as 
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -57,6 +58,34 @@ def test_library_raises_no_usage_error_and_names_no_flag_of_render():
                 assert getattr(call, "id", "") != "UsageError", f"{path}:{node.lineno}"
             if isinstance(node, ast.Constant) and isinstance(node.value, str):
                 assert "--spp" not in node.value, f"{path}:{node.lineno}"
+
+
+#: Library modules whose strings may name flags: llvm.py is its own ``python -m`` command
+#: line, studies/pictures.py labels its figures with the options they show.
+NAMES_FLAGS = {ROOT / "spectrace" / "llvm.py", ROOT / "spectrace" / "studies" / "pictures.py"}
+FLAG = re.compile(r"(?<![\w-])--[a-z][\w-]*")
+
+
+def _docstrings(tree) -> set[int]:
+    kinds = (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)
+    return {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, kinds) and node.body and isinstance(node.body[0], ast.Expr)
+            and isinstance(node.body[0].value, ast.Constant)}
+
+
+def test_library_strings_name_no_flag():
+    """No string of the library but its docstrings names a command-line flag (--plane,
+    --range, --variant, --film, ...): messages name function and plugin parameters, and the
+    commands translate them to their flags."""
+    for path in LIBRARY:
+        if path in NAMES_FLAGS:
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        docs = _docstrings(tree)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and \
+                    id(node) not in docs:
+                assert not FLAG.search(node.value), f"{path}:{node.lineno}: {node.value!r}"
 
 
 @pytest.fixture(scope="module")

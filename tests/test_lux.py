@@ -71,38 +71,47 @@ def test_parse_plane():
 @pytest.mark.parametrize("text", ["0,0.85,0", "0,0.85 0,1,0", "a,b,c 0,1,0", "0,1,0 0,1,0 1",
                                   "0,1,0 0,nan,1", "0,1,0 0,0,0", ""])
 def test_malformed_plane_is_a_user_error(text):
-    """Anything else is a one-line ParameterError showing the expected form."""
+    """Anything else is a one-line ParameterError naming the parameter (plane, or the name
+    the caller gives: the command line's flag) and showing the expected form."""
     from spectrace.lux import parse_plane
 
-    with pytest.raises(ParameterError, match="--plane") as info:
+    with pytest.raises(ParameterError, match="^plane ") as info:
         parse_plane(text)
-    assert "\n" not in str(info.value)
+    assert "\n" not in str(info.value) and "--" not in str(info.value)
+    with pytest.raises(ParameterError, match="^work_plane "):
+        parse_plane(text, name="work_plane")
 
 
 def test_parse_plane_extreme_numbers():
     """A normal of huge or tiny components is normalised without overflow or underflow
     (1e300,1e300,0 became the zero normal, 'parallel to the view'); a point beyond float32,
-    which the renderer would make infinite, is a one-line ParameterError naming --plane."""
+    which the renderer would make infinite, is a one-line ParameterError naming plane."""
     from spectrace.lux import parse_plane
 
     _, normal = parse_plane("0,0,0 1e300,1e300,0")
     np.testing.assert_allclose(normal, (np.sqrt(0.5), np.sqrt(0.5), 0.0), rtol=1e-12)
     _, normal = parse_plane("0,0,0 0,1e-320,0")
     assert normal == (0.0, 1.0, 0.0)
-    with pytest.raises(ParameterError, match="--plane .*float32"):
+    with pytest.raises(ParameterError, match="^plane .*float32"):
         parse_plane("1e308,0,0 0,1,0")
 
 
 def test_parse_range():
-    """MIN,MAX with 0 <= MIN < MAX; --log needs MIN > 0."""
+    """MIN,MAX with 0 <= MIN < MAX; log needs MIN > 0. The messages name the parameters
+    value_range and log (or the names the caller gives)."""
     from spectrace.lux import parse_range
 
     assert parse_range("0,500") == (0.0, 500.0)
     assert parse_range("10,1e4", log=True) == (10.0, 1e4)
     for text, log in (("500,0", False), ("5", False), ("-1,5", False), ("0,5", True),
                       ("x,5", False), ("1,inf", False)):
-        with pytest.raises(ParameterError, match="--range"):
+        with pytest.raises(ParameterError, match="^value_range ") as info:
             parse_range(text, log)
+        assert "--" not in str(info.value)
+    with pytest.raises(ParameterError, match="^value_range '0,5': log needs MIN > 0"):
+        parse_range("0,5", log=True)
+    with pytest.raises(ParameterError, match="^scale '0,5': logarithmic needs MIN > 0"):
+        parse_range("0,5", log=True, names=("scale", "logarithmic"))
 
 
 def test_statistics_and_uniformity():
@@ -196,11 +205,11 @@ def test_plane_parallel_to_the_view_is_a_user_error(variant_rgb):
     T = mi.ScalarTransform4f()
     scene = top_view({"light": {"type": "pointlight", "position": [0.0, 2.0, 0.0]}})
     scene["sensor"]["to_world"] = T.look_at([0, 1.5, 0], [0, 1.5, 1], [0, 1, 0])
-    with pytest.raises(ParameterError, match="parallel to the view"):
+    with pytest.raises(ParameterError, match="^plane .*parallel to the view"):
         render_lux(load(scene), 1, plane=((0.0, 0.85, 0.0), (0.0, 1.0, 0.0)))
     scene["sensor"] = {"type": "perspective", "fov": 40,
                        "to_world": T.look_at([0, 1.5, 0], [0, 0, 0], [0, 0, 1])}
-    with pytest.raises(ParameterError, match="behind the camera"):
+    with pytest.raises(ParameterError, match="^plane .*behind the camera"):
         render_lux(load(scene), 1, plane=((0.0, 3.0, 0.0), (0.0, 1.0, 0.0)))
 
 

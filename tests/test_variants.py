@@ -94,7 +94,7 @@ def test_scene_needing_a_polarized_variant_names_it(tmp_path, capsys):
                  "-o", str(tmp_path / "out" / "x.exr")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0
-    assert "--variant llvm_ad_spectral_polarized" in err
+    assert "the variant llvm_ad_spectral_polarized" in err
     assert not (tmp_path / "out").exists()
 
 

@@ -73,6 +73,20 @@ def add_verbose(parser) -> None:
                         help="show Mitsuba's warnings (once each)")
 
 
+def parse_defines(defines: list[str] | None) -> dict[str, str]:
+    """``["name=value", ...]`` of ``-D`` options -> the scene parameters (a dict); UsageError
+    for an item without ``=`` or a name."""
+    from spectrace.errors import UsageError
+
+    params = {}
+    for item in defines or []:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise UsageError(f"-D {item!r}: expected name=value")
+        params[name.strip()] = value
+    return params
+
+
 #: The flags of the render options, by the library parameter they set.
 RENDER_FLAGS = {"spp": "--spp", "spp_per_pass": "--spp-per-pass", "seed": "--seed"}
 

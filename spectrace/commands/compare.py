@@ -21,7 +21,12 @@ from pathlib import Path
 import numpy as np
 
 from spectrace import DEFAULT_VARIANT
-from spectrace.commands import add_display_options, add_verbose, display_settings
+from spectrace.commands import (
+    add_display_options,
+    add_verbose,
+    display_settings,
+    parse_defines,
+)
 from spectrace.errors import UsageError
 
 SCENE_SUFFIXES = (".xml",)
@@ -61,7 +66,7 @@ class _SideDefine(argparse.Action):
 def _render_scene(path: Path, variant: str, args, defines=None) -> np.ndarray:
     import spectrace
     from spectrace.passes import scene_spp
-    from spectrace.scene import load_scene, parse_defines, read_scene_xml
+    from spectrace.scene import load_scene, read_scene_xml
 
     read_scene_xml(path)
     spectrace.set_variant(variant)
@@ -84,7 +89,6 @@ def _load(path: str, variant: str, args) -> np.ndarray:
 
 def inputs(args) -> tuple[np.ndarray, np.ndarray, str, str]:
     """The two images to compare and their labels."""
-    from spectrace.scene import parse_defines
 
     if args.against:
         if args.variants or args.b is not None:

@@ -15,9 +15,10 @@ from spectrace.commands import (
     EXIT_INTERRUPTED,
     add_render_options,
     check_render_options,
+    parse_defines,
     progress_bar,
 )
-from spectrace.errors import SpectraceError, UsageError
+from spectrace.errors import ParameterError, SpectraceError, UsageError
 from spectrace.passes import scene_spp
 
 
@@ -42,10 +43,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "unobstructed horizontal illuminance (and EN 17037 levels for a site "
                         "median diffuse illuminance E_MED in lux, if given)")
     design = parser.add_argument_group("lighting design")
-    design.add_argument("--grid", metavar="'x0,y0 x1,y1 @ h'",
+    design.add_argument("--grid", metavar="'x0,y0 x1,y1 @ h'|NAME",
                         help="calculation grid on the horizontal plane at height h (plan x = "
-                        "scene X, plan y = scene -Z, metres): OUT.csv (x,y,z,lux,stderr) and "
-                        "a plan-view PNG; prints Em, Emin, Emax, U0")
+                        "scene X, plan y = scene -Z, metres), or the name of a <default> of "
+                        "the scene that holds one: OUT.csv (x,y,z,lux,stderr) and a "
+                        "plan-view PNG; prints Em, Emin, Emax, U0")
     design.add_argument("--spacing", type=float, metavar="P",
                         help="grid spacing in m (default: EN 12464-1's 0.2 x 5^log10(d))")
     design.add_argument("--border", type=float, default=0.5, metavar="B",
@@ -98,15 +100,18 @@ def run(args) -> int:
 def run_map(args) -> int:
     from spectrace import lux
     from spectrace.images import check_writable
-    from spectrace.scene import parse_defines, read_scene_xml
+    from spectrace.scene import read_scene_xml
 
     scene_path = Path(args.scene)
     check_render_options(args)  # before loading anything
     if args.max_depth == 0 or args.max_depth < -1:
         raise UsageError(f"--max-depth must be >= 1, or -1 for no limit (got {args.max_depth})")
-    plane = None if args.plane is None else lux.parse_plane(args.plane)
-    value_range = None if args.value_range is None else \
-        lux.parse_range(args.value_range, args.log)
+    try:  # the library's messages call them plane, value_range, log: here, by their flags
+        plane = None if args.plane is None else lux.parse_plane(args.plane, "--plane")
+        value_range = None if args.value_range is None else \
+            lux.parse_range(args.value_range, args.log, ("--range", "--log"))
+    except ParameterError as e:
+        raise UsageError(str(e)) from None
     paths = output_paths(scene_path, args.output)
     params = parse_defines(args.defines)
     root = read_scene_xml(scene_path)
@@ -121,7 +126,10 @@ def run_map(args) -> int:
     spectrace.set_variant(args.variant, lazy=True)  # plugins registered as scenes load
     scene = _load(scene_path, params, root)
     if plane is not None:  # before check_writable makes the output's folder
-        lux.check_plane_visible(scene, plane)
+        try:
+            lux.check_plane_visible(scene, plane, name="--plane")
+        except ParameterError as e:
+            raise UsageError(str(e)) from None
     if args.daylight_factor is not None:  # a scene without a ciesky fails before rendering
         from spectrace import daylight
 
@@ -169,14 +177,21 @@ def _render_with_progress(scene, spp, plane, args):
     from spectrace.lux import render_lux
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
-        return render_lux(scene, spp, seed=args.seed, plane=plane, max_depth=args.max_depth,
-                          spp_per_pass=args.spp_per_pass, on_pass=on_pass)
+        try:
+            return render_lux(scene, spp, seed=args.seed, plane=plane,
+                              max_depth=args.max_depth, spp_per_pass=args.spp_per_pass,
+                              on_pass=on_pass)
+        except ParameterError as e:
+            if plane is None:
+                raise
+            raise UsageError(f"--plane: {e}") from None  # surfaces hide the plane
 
 
 # -- lighting design: grids, points, luminance, glare, report ---------------------------------
 
-def _check_design_options(args):
-    """Every option checked before anything is loaded or written (UsageError)."""
+def _check_design_options(args, defaults: dict[str, str]):
+    """Every option checked before anything is loaded or written (UsageError);
+    ``defaults``: the scene's parameters, where ``--grid NAME`` finds its grid."""
     import math
 
     from spectrace.lighting import grids
@@ -209,11 +224,23 @@ def _check_design_options(args):
     grid = None
     if args.grid is not None:
         try:
-            rectangle, height = grids.parse_grid(args.grid)
+            rectangle, height = grids.parse_grid(args.grid, defaults)
             grid = grids.make_grid(rectangle, height, args.border, args.spacing)
         except ValueError as e:
             raise UsageError(f"--grid: {e}") from None
     return grid
+
+
+def _without_grid(root, params: dict[str, str], grid: str | None) -> dict[str, str]:
+    """``params`` without ``-D NAME=...`` of ``--grid NAME`` when the scene itself does not
+    use ``$NAME`` (the grid is this command's, and Mitsuba refuses an unused parameter)."""
+    from spectrace.lighting.grids import grid_name
+    from spectrace.scene import uses_parameter
+
+    name = None if grid is None else grid_name(grid)
+    if name is None or name not in params or uses_parameter(root, name):
+        return params
+    return {k: v for k, v in params.items() if k != name}
 
 
 def design_paths(args, scene_path: Path) -> dict[str, Path]:
@@ -248,21 +275,20 @@ def design_paths(args, scene_path: Path) -> dict[str, Path]:
 def run_design(args) -> int:
     import spectrace
     from spectrace import lux
-    from spectrace.errors import ParameterError
     from spectrace.images import check_writable
     from spectrace.lighting import grids, points, report
-    from spectrace.scene import parse_defines, read_scene_xml
+    from spectrace.scene import read_scene_xml, scene_defaults
 
     scene_path = Path(args.scene)
     check_render_options(args)  # before loading anything
-    grid = _check_design_options(args)
+    params = parse_defines(args.defines)
+    root = read_scene_xml(scene_path)  # --grid NAME: a <default> of the scene (or -D)
+    grid = _check_design_options(args, {**scene_defaults(root), **params})
     paths = design_paths(args, scene_path)
     point_data = None
     if args.points is not None:
         point_data = points.read_points_table(args.points)
-    params = parse_defines(args.defines)
-    root = read_scene_xml(scene_path)
-    params = lux.true_units(root, params)
+    params = lux.true_units(root, _without_grid(root, params, args.grid))
     try:
         lux.lux_scene_tree(root)
     except SpectraceError as e:

@@ -20,6 +20,7 @@ from spectrace.commands import (
     add_render_options,
     check_render_options,
     display_settings,
+    parse_defines,
     progress_bar,
 )
 from spectrace.errors import UsageError
@@ -154,7 +155,7 @@ def run(args) -> int:
     all_paths = scene_outputs(scene_paths, args.output, args.film, args.denoise,
                               args.display_exr)
 
-    from spectrace.scene import load_scene, parse_defines, read_scene_xml
+    from spectrace.scene import load_scene, read_scene_xml
 
     params = parse_defines(args.defines)
     roots = [read_scene_xml(p) for p in scene_paths]

@@ -42,7 +42,7 @@ def run(args) -> int:
     unknown = [name for name in args.case if name not in CASES]
     if unknown:
         raise UsageError(f"--case {unknown[0]}: no such case (spectrace validate --list)")
-    from spectrace.scene import parse_defines
+    from spectrace.commands import parse_defines
 
     params = parse_defines(args.defines)
     import spectrace

@@ -5,7 +5,9 @@ room (or task area) between the corners (x0, y0) and (x1, y1), on the horizontal
 height h. The plan is the view from above of a scene whose up axis is +Y (DESIGN.md), north
 -Z and east +X: plan x is the scene's X (east), plan y is the scene's -Z (north), the height
 is the scene's Y, so a plan point (x, y) at height h is the scene point (x, h, -y) and the
-plan is drawn with x to the right and y up, as seen from above.
+plan is drawn with x to the right and y up, as seen from above. A scene may name its grids:
+``<default name="workplane" value="0,0 6,4 @ 0.8"/>``, and ``parse_grid("workplane",
+scene_defaults(tree))`` reads it (``spectrace lux SCENE --grid workplane``).
 
 Points (:func:`make_grid`): a band of ``border`` metres (0.5 m by default) is excluded at
 each side of the rectangle, as EN 12464-1 allows for a room's walls ("a band of 0.5 m
@@ -40,7 +42,7 @@ import numpy as np
 from spectrace.errors import ParameterError
 
 __all__ = ["GRID_FORMAT", "Grid", "GridResult", "TASKS", "Task", "grid_spacing",
-           "make_grid", "parse_grid", "plan_to_scene", "plot_plan", "check_in_scene"]
+           "grid_name", "make_grid", "parse_grid", "plan_to_scene", "plot_plan", "check_in_scene"]
 
 #: How a grid is written.
 GRID_FORMAT = "'x0,y0 x1,y1 @ h' (plan corners and height in metres, e.g. '0,0 6,4 @ 0.8')"
@@ -129,11 +131,40 @@ def plan_to_scene(plan: np.ndarray, height: float) -> np.ndarray:
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _GRID = re.compile(rf"^\s*({_NUMBER})\s*,\s*({_NUMBER})\s+({_NUMBER})\s*,\s*({_NUMBER})"
                    rf"\s*@\s*({_NUMBER})\s*$")
+#: A grid given by the name of a scene parameter (``<default>``) that holds it.
+_NAME = re.compile(r"^\s*([A-Za-z_]\w*)\s*$")
 
 
-def parse_grid(text: str) -> tuple[tuple[float, float, float, float], float]:
-    """``"x0,y0 x1,y1 @ h"`` -> ((x0, y0, x1, y1) sorted, h). ParameterError when
-    malformed or when the rectangle has no area."""
+def parse_grid(text: str, defaults: dict[str, str] | None = None
+               ) -> tuple[tuple[float, float, float, float], float]:
+    """``"x0,y0 x1,y1 @ h"`` -> ((x0, y0, x1, y1) sorted, h); or ``text`` is a name, and
+    ``defaults`` (the scene's parameters, name -> value: its ``<default>``s, see
+    :func:`spectrace.scene.scene_defaults`) holds the grid under it, as in
+    ``<default name="workplane" value="0,0 6,4 @ 0.8"/>``. ParameterError when malformed,
+    when the rectangle has no area or when no parameter has the name."""
+    key = grid_name(text)
+    if key is not None:
+        values = defaults or {}
+        if key not in values:
+            grids = [k for k, v in values.items() if _GRID.match(str(v))]
+            have = (f"its grids: {', '.join(grids)}" if grids else
+                    "none of its <default>s holds a grid")
+            raise ParameterError(f"grid {key!r}: the scene has no <default name={key!r}> "
+                                 f"({have})")
+        try:
+            return _parse_rectangle(values[key])
+        except ParameterError as e:
+            raise ParameterError(f"<default name={key!r}>: {e}") from None
+    return _parse_rectangle(text)
+
+
+def grid_name(text: str) -> str | None:
+    """The scene parameter's name when ``text`` names a grid rather than writing it out."""
+    match = _NAME.match(str(text))
+    return None if match is None else match.group(1)
+
+
+def _parse_rectangle(text: str) -> tuple[tuple[float, float, float, float], float]:
     match = _GRID.match(str(text))
     if match is None:
         raise ParameterError(f"grid {text!r}: expected {GRID_FORMAT}")

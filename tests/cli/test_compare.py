@@ -109,8 +109,12 @@ PLANE_SCENE = """<scene version="3.0.0">
     <default name="albedo" value="0.4"/>
     <integrator type="direct"/>
     <sensor type="orthographic">
-        <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
-        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+        <transform name="to_world">
+            <lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/>
+        </transform>
+        <film type="hdrfilm">
+            <integer name="width" value="8"/><integer name="height" value="8"/>
+        </film>
         <sampler type="independent"><integer name="sample_count" value="64"/></sampler>
     </sensor>
     <shape type="rectangle">

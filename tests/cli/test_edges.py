@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from error_checks import assert_one_line_error
 
 from spectrace.cli import build_parser, main
 
@@ -15,16 +16,10 @@ EXIT_USAGE = 2
 SMALL = ["-D", "res=8", "--spp", "1", "-q", "--variant", "llvm_ad_rgb"]
 
 
-def one_line_error(capsys) -> str:
-    err = capsys.readouterr().err.strip()
-    assert "\n" not in err and err.startswith("error: ") and "Traceback" not in err, err
-    return err
-
-
 def test_misspelt_parameter_is_named_not_the_plugin(capsys):
     """furnace phong -p exponet=2: the unknown parameter, not 'unknown plugin "phong"'."""
     assert main(["furnace", "phong", "-p", "exponet=2", "--variant", "llvm_ad_rgb"]) == 2
-    err = one_line_error(capsys)
+    err = assert_one_line_error(capsys, alone=True)
     assert "'exponet'" in err and "unknown plugin" not in err
 
 
@@ -41,7 +36,7 @@ def test_cuda_variant_without_a_gpu_says_so(tmp_path, capsys):
         pytest.skip("this machine runs CUDA")
     code = main(["render", str(SHOWCASE), *SMALL[:-1], "cuda_ad_rgb",
                  "-o", str(tmp_path / "x.exr")])
-    err = one_line_error(capsys)
+    err = assert_one_line_error(capsys, alone=True)
     assert code == EXIT_USAGE and "cuda_ad_rgb" in err and "no CUDA GPU" in err
     assert "jit_" not in err and "JitBackend" not in err
 
@@ -50,7 +45,7 @@ def test_unknown_variant_lists_only_supported_ones(tmp_path, capsys):
     """The list after 'unknown variant' holds no scalar_* variant (which is refused)."""
     code = main(["render", str(SHOWCASE), *SMALL[:-1], "llvm_ad_nonsense",
                  "-o", str(tmp_path / "x.exr")])
-    err = one_line_error(capsys)
+    err = assert_one_line_error(capsys, alone=True)
     assert code == EXIT_USAGE and "llvm_ad_rgb" in err and "scalar_" not in err
 
 
@@ -80,7 +75,7 @@ def test_output_below_a_file_says_which_file(tmp_path, capsys):
     """-o ok.xml/x.exr where ok.xml is a file: say so (it said 'File exists')."""
     (tmp_path / "ok.xml").write_text("")
     code = main(["render", str(SHOWCASE), *SMALL, "-o", str(tmp_path / "ok.xml" / "x.exr")])
-    err = one_line_error(capsys)
+    err = assert_one_line_error(capsys, alone=True)
     assert code == EXIT_USAGE and f"{tmp_path / 'ok.xml'} is a file, not a folder" in err
 
 
@@ -90,7 +85,7 @@ def test_empty_output_is_refused(tmp_path, capsys, command, monkeypatch):
     """-o '' wrote ./<scene>.exr: refused, nothing written."""
     monkeypatch.chdir(tmp_path)
     assert main([*command, "-o", ""]) == EXIT_USAGE
-    assert "output path is empty" in one_line_error(capsys)
+    assert "output path is empty" in assert_one_line_error(capsys, alone=True)
     assert not list(tmp_path.iterdir())
 
 
@@ -106,7 +101,7 @@ def test_negative_numbers_are_option_values(args):
 def test_negative_range_is_lux_s_error_not_argparse_s(capsys, tmp_path):
     """The message is about the range (0 <= MIN), not 'expected one argument'."""
     assert main(["lux", str(SHOWCASE), "--range", "-5,10", "-o", str(tmp_path / "l.exr")]) == 2
-    err = one_line_error(capsys)
+    err = assert_one_line_error(capsys, alone=True)
     assert "--range" in err and "expected one argument" not in err
 
 
@@ -118,3 +113,14 @@ def test_spd_reflectance_beyond_one_warns(capsys):
     assert "warning: FL11 has values up to" in err and "not a reflectance" in err
     assert main(["spd", "dark skin"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("item", ["res", "=8"])
+def test_malformed_define_names_the_flag(tmp_path, capsys, item):
+    """-D without '=' or without a name is the command line's mistake: one line naming -D,
+    exit 2, nothing written (the scene is not even read)."""
+    out = tmp_path / "out" / "x.exr"
+    assert main(["render", str(SHOWCASE), "-D", item, "-o", str(out), "-q"]) == EXIT_USAGE
+    err = assert_one_line_error(capsys, alone=True)
+    assert f"-D {item!r}: expected name=value" in err, err
+    assert not out.parent.exists()

@@ -7,6 +7,7 @@ import os
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 
 from spectrace.cli import main
 
@@ -53,14 +54,6 @@ def pixel_centres(res: int = RES) -> tuple[np.ndarray, np.ndarray]:
     """|x| and |z| (m) of the floor points at the pixel centres (the view is symmetric)."""
     c = (np.arange(res) + 0.5) / res * 2 * HALF_WIDTH - HALF_WIDTH
     return np.meshgrid(np.abs(c), np.abs(c))
-
-
-def assert_one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: "), err
-    assert "Traceback" not in "\n".join(err)
-    for word in words:
-        assert word in err[-1], (word, err[-1])
 
 
 def test_lux_writes_exr_png_and_prints_statistics(tmp_path, capsys):
@@ -120,6 +113,8 @@ ERRORS = {
     "bad_range": (["--range", "500,0"], {}, "--range"),
     "range_text": (["--range", "low,high"], {}, "--range"),
     "log_range_zero": (["--range", "0,500", "--log"], {}, "--log needs MIN > 0"),
+    "hidden_plane": (["--plane", "0,-0.5,0 0,1,0"], {},
+                     "--plane: plane '0,-0.5,0 0,1,0': no pixel sees the plane"),
     "max_depth": (["--max-depth", "0"], {}, "--max-depth"),
     "two_quantities": ([], {"light": LIGHT.replace(
         "</emitter>", '<float name="luminous_flux" value="5"/></emitter>')},
@@ -132,9 +127,10 @@ ERRORS = {
 
 @pytest.mark.parametrize("case", sorted(ERRORS))
 def test_errors_exit_2_in_one_line_and_write_nothing(tmp_path, capsys, monkeypatch, case):
-    """A malformed or invisible work plane, a scene without a sensor, a bad --range or
-    --max-depth, a light with two luminous quantities or a negative one: exit status 2,
-    one line 'error: ...' naming the problem, no file written."""
+    """A malformed, invisible or hidden (below the floor) work plane, a scene without a
+    sensor, a bad --range or --max-depth, a light with two luminous quantities or a
+    negative one: exit status 2, one line 'error: ...' naming the problem by its flag, no
+    file written."""
     args, scene, words = ERRORS[case]
     monkeypatch.chdir(tmp_path)
     if "text" in scene:

@@ -12,6 +12,7 @@ import os
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 
 from spectrace.cli import main
 
@@ -86,6 +87,27 @@ def test_grid_csv_plan_statistics_and_task(tmp_path, capsys):
         assert text in printed, (text, printed)
 
 
+def test_grid_named_by_a_default_of_the_scene(tmp_path, capsys):
+    """--grid workplane, where the scene has <default name="workplane" value="0,0 6,4 @
+    0.8"/>: the same 9 x 6 points and lux as the grid written out; -D workplane=... replaces
+    it as it replaces any <default>."""
+    scene = write_room(tmp_path, "")
+    scene.write_text(scene.read_text().replace(
+        '<default name="res" value="24"/>',
+        '<default name="res" value="24"/><default name="workplane" value="0,0 6,4 @ 0.8"/>'))
+    out = tmp_path / "named.csv"
+    base = ["lux", str(scene), "-o", str(out), "--variant", "llvm_ad_rgb", "-q"]
+    assert main([*base, "--grid", "workplane"]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert data.shape == (9 * 6, 5) and np.allclose(data[:, 1], 0.8)
+    np.testing.assert_allclose(data[:, 3], law(data[:, :3]), rtol=RTOL_EXACT)
+    assert "9 x 6 points" in capsys.readouterr().out
+    assert main([*base, "--grid", "workplane", "-D", "workplane=1,1 5,3 @ 0.5"]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.allclose(data[:, 1], 0.5) and data[:, 0].min() > 1.0
+    np.testing.assert_allclose(data[:, 3], law(data[:, :3]), rtol=RTOL_EXACT)
+
+
 def test_points_round_trip_and_kinds(tmp_path, capsys):
     """--points: the output repeats the input columns and adds lux and stderr (horizontal
     and vertical points of the closed form); --kind cylindrical gives I sin / (pi r^2)."""
@@ -141,6 +163,9 @@ BAD = {
     "grid_outside": (["--grid", "0,0 9,4 @ 0.8"], "lie outside the scene"),
     "grid_above": (["--grid", "0,0 6,4 @ 3.5"], "lie outside the scene"),
     "grid_malformed": (["--grid", "0,0 6,4"], "--grid"),
+    "grid_unknown_name": (["--grid", "desk"],
+                          "--grid: grid 'desk': the scene has no <default name='desk'>"),
+    "grid_name_no_grid": (["--grid", "res"], "--grid: <default name='res'>: grid '24'"),
     "zero_spacing": (["--grid", "0,0 6,4 @ 0.8", "--spacing", "0"], "--spacing must be > 0"),
     "mf_above_one": (["--grid", "0,0 6,4 @ 0.8", "--maintenance-factor", "1.2"],
                      "--maintenance-factor"),
@@ -172,9 +197,7 @@ def test_bad_input_exits_2_in_one_line_and_writes_nothing(tmp_path, capsys, monk
             "--report", str(tmp_path / "out" / "r.md")] if "--report" not in args else \
         ["lux", str(scene), *args, "-o", str(out), "--variant", "llvm_ad_rgb", "-q"]
     assert main(argv) == EXIT_USAGE
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: ") and words in err[-1], err
-    assert "Traceback" not in "\n".join(err)
+    assert_one_line_error(capsys, words)
     assert set(os.listdir(tmp_path)) == before
 
 

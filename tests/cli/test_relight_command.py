@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_render_command import assert_one_line_error
+from error_checks import assert_one_line_error
 
 from spectrace import lightgroups
 from spectrace.cli import main

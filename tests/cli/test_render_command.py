@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 from PIL import Image
 
 from spectrace.cli import main
@@ -31,14 +32,6 @@ def render(tmp_path, *extra, name="img.exr"):
     out = tmp_path / name
     code = main(["render", str(SHOWCASE), "-o", str(out), *TINY, *extra])
     return code, out
-
-
-def assert_one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: "), err
-    assert "Traceback" not in "\n".join(err)
-    for word in words:
-        assert word in err[-1], (word, err[-1])
 
 
 def test_render_writes_exr_and_png_with_header(tmp_path):

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 
 from spectrace.cli import main
 from spectrace.images import read_exr
@@ -34,13 +35,6 @@ def scheduler():
     local.close()
 
 
-def assert_one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("error: "), err
-    for word in words:
-        assert word in err[0], (word, err[0])
-
-
 @pytest.mark.parametrize(("defines", "word"), [
     (["-D", "res="], "no values"),
     (["-D", "nosuch=1,2"], "nosuch"),
@@ -50,7 +44,7 @@ def test_bad_grid_exits_2_and_writes_nothing(tmp_path, capsys, defines, word):
     out = tmp_path / "sweep"
     code = main(["sweep", str(SHOWCASE), *defines, "-o", str(out), "-q"])
     assert code == EXIT_USAGE
-    assert_one_line_error(capsys, word)
+    assert_one_line_error(capsys, word, alone=True)
     assert not out.exists()
 
 
@@ -67,7 +61,7 @@ def test_unreachable_scheduler_exits_2_quickly(tmp_path, capsys, monkeypatch):
                  "--scheduler", "tcp://127.0.0.1:1"])
     assert time.perf_counter() - start < UNREACHABLE_LIMIT_S
     assert code == EXIT_USAGE
-    assert_one_line_error(capsys, "tcp://127.0.0.1:1")
+    assert_one_line_error(capsys, "tcp://127.0.0.1:1", alone=True)
     assert not out.exists()
 
 
@@ -106,7 +100,7 @@ def test_outdir_that_is_a_file_exits_2_before_any_cluster(tmp_path, capsys, monk
     for out, words in ((a_file, ("is a file",)), (a_file / "sub", ("inside", "is a file"))):
         code = main(["sweep", str(SHOWCASE), "-D", "res=16", "-o", str(out), "-q"])
         assert code == EXIT_USAGE
-        assert_one_line_error(capsys, str(out), *words)
+        assert_one_line_error(capsys, str(out), *words, alone=True)
     assert a_file.read_text() == "not a folder"
 
 
@@ -128,7 +122,7 @@ def test_escaped_comma_long_values_and_seed_range(tmp_path, capsys):
     code = main(["sweep", str(SHOWCASE), "-D", "res=8", "--seeds", "99999999999", "-o",
                  str(out), "-q"])
     assert code == EXIT_USAGE
-    assert_one_line_error(capsys, "seeds must be between", "(got 99999999999)")
+    assert_one_line_error(capsys, "seeds must be between", "(got 99999999999)", alone=True)
     assert not out.exists()
 
 

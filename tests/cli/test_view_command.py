@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from error_checks import assert_one_line_error
 from PIL import Image
 
 from spectrace.cli import main
@@ -46,14 +47,6 @@ target="0, 0, 0" up="0, 1, 0"/></transform><film type="hdrfilm"><integer name="w
 def png_pixels(path) -> np.ndarray:
     with Image.open(path) as im:
         return np.asarray(im.convert("RGB"))
-
-
-def assert_one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err and err[-1].startswith("error: "), err
-    assert "Traceback" not in "\n".join(err)
-    for word in words:
-        assert word in err[-1], (word, err[-1])
 
 
 @pytest.fixture(scope="module")

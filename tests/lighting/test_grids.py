@@ -112,8 +112,26 @@ def test_task_check_csv_and_plan(variant_rgb, tmp_path):
     assert grids.room_outline(scene) == pytest.approx((0.0, 0.0, 6.0, 4.0))
 
 
+def test_grid_named_by_a_scene_parameter():
+    """A name is looked up in the scene's parameters (<default name="workplane" .../>), so
+    'workplane' reads as the grid it holds; spaces around the name are allowed."""
+    import xml.etree.ElementTree as ET
+
+    from spectrace.lighting.grids import parse_grid
+    from spectrace.scene import scene_defaults
+
+    tree = ET.fromstring('<scene version="3.0.0"><default name="res" value="24"/>'
+                         '<default name="workplane" value="6,4 0,0 @ 0.8"/></scene>')
+    assert parse_grid(" workplane ", scene_defaults(tree)) == ((0.0, 0.0, 6.0, 4.0), 0.8)
+
+
 @pytest.mark.parametrize(("call", "message"), [
     (lambda g: g.parse_grid("0,0 6,4"), "expected 'x0,y0 x1,y1 @ h'"),
+    (lambda g: g.parse_grid("desk", {"res": "24", "room": "0,0 6,4 @ 0.8"}),
+     r"^grid 'desk': the scene has no <default name='desk'> \(its grids: room\)$"),
+    (lambda g: g.parse_grid("desk"), r"none of its <default>s holds a grid"),
+    (lambda g: g.parse_grid("res", {"res": "24"}),
+     r"^<default name='res'>: grid '24': expected 'x0,y0 x1,y1 @ h'"),
     (lambda g: g.parse_grid("0,0 0,4 @ 1"), "no area"),
     (lambda g: g.make_grid((0, 0, 6, 4), 0.8, spacing=0.0), "spacing must be > 0"),
     (lambda g: g.make_grid((0, 0, 1, 1), 0.8), "leaves no calculation area"),
@@ -122,8 +140,9 @@ def test_task_check_csv_and_plan(variant_rgb, tmp_path):
     (lambda g: g.task("kitchen"), "expected one of office"),
 ])
 def test_bad_grids(call, message):
-    """Malformed grids, zero spacing, a border larger than the room, a maintenance factor
-    outside (0, 1] and an unknown task: one-line ParameterErrors."""
+    """Malformed grids, a grid name the scene's parameters lack or whose value is no grid,
+    zero spacing, a border larger than the room, a maintenance factor outside (0, 1] and an
+    unknown task: one-line ParameterErrors."""
     from spectrace.errors import ParameterError
     from spectrace.lighting import grids
 

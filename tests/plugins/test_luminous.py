@@ -109,8 +109,8 @@ def test_rgb_watts_per_lumen_uses_luminance(variant_rgb):
     rgb = np.array([0.9, 0.4, 0.1])
     Y = colour.models.RGB_COLOURSPACE_sRGB.matrix_RGB_to_XYZ[1] @ rgb
     texture = mi.load_dict({"type": "rgb", "value": rgb.tolist()})
-    np.testing.assert_allclose(luminous.watts_per_lumen(texture, "test"), 1.0 / (683.0 * Y * checks.CIE_Y_INTEGRAL),
-                               rtol=RTOL_LUX_RGB)
+    np.testing.assert_allclose(luminous.watts_per_lumen(texture, "test"),
+                               1.0 / (683.0 * Y * checks.CIE_Y_INTEGRAL), rtol=RTOL_LUX_RGB)
 
 
 def test_candela_renders_like_colour_science_radiant_intensity(variant_spectral):
