@@ -21,6 +21,7 @@ from spectrace.commands import (
     check_render_options,
     display_settings,
     progress_bar,
+    write_picture,
 )
 from spectrace.errors import UsageError
 from spectrace.memory import check_pass
@@ -324,7 +325,7 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene
     """Write the EXR (and the spectral EXR, the denoised EXR, or the light-group layers),
     then the PNG through the display pipeline; returns the pipeline's notes (the exposure
     used)."""
-    from spectrace.images import write_exr, write_png
+    from spectrace.images import write_exr
 
     header = {
         "spp": int(result.spp),
@@ -356,15 +357,7 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene
         albedo, normal = render_features(scene, result.spp, seed=args.seed)
         rgb = denoise_image(np.asarray(rgb, np.float32), albedo, normal)
         write_exr(paths["denoised"], rgb, {**header, "denoiser": "Open Image Denoise RT"})
-    if settings.is_default and "display" not in paths:  # the plain PNG (a tensor: mi.Bitmap)
-        write_png(paths["png"], rgb)
-        return ()
-    import numpy as np
-
-    from spectrace.display import write_display_png
-
-    return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings,
-                             paths.get("display")).notes
+    return write_picture(paths["png"], rgb, settings, paths.get("display"))
 
 
 def _write_layers(result, paths, wavelengths, header, scene, integrator):

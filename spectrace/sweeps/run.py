@@ -19,7 +19,8 @@ from spectrace.sweeps.sheet import thumbnail, write_sheet
 
 
 def run(grid: Grid, client, outdir, *, on_image: Callable[[Outcome], None] | None = None,
-        keep_images: bool = True, outcomes: list[Outcome] | None = None) -> list[Outcome]:
+        keep_images: bool = True, outcomes: list[Outcome] | None = None,
+        display=None, display_exr: bool = False) -> list[Outcome]:
     """Render ``grid`` on ``client``'s workers into ``outdir``; outcomes in grid order.
 
     Skips finished images (``outcomes``: a :func:`~spectrace.sweeps.files.plan` already
@@ -31,6 +32,7 @@ def run(grid: Grid, client, outdir, *, on_image: Callable[[Outcome], None] | Non
     ``keep_images=False`` keeps only a contact-sheet-sized copy of each new image in its
     outcome (memory stays small for large sweeps). A combination that fails for a user
     reason (a bad value) is reported in its :class:`Outcome` while the others finish.
+    ``display``, ``display_exr``: how each PNG is made (:func:`write_image`).
     """
     from spectrace.cluster import RETRIES, SceneSpec, render_image
 
@@ -57,7 +59,7 @@ def run(grid: Grid, client, outdir, *, on_image: Callable[[Outcome], None] | Non
                 answer = future.result()
             except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries
                 answer = {"error": f"{type(e).__name__}: {first_line(e)}"}
-            _take(outdir, grid, o, answer)
+            _take(outdir, grid, o, answer, display, display_exr)
             if not keep_images and o.status == "rendered":
                 o.image = thumbnail(o.image)
             if on_image:
@@ -83,11 +85,12 @@ def _as_completed(client, futures):
     return as_completed(futures, loop=client.loop)
 
 
-def _take(outdir: Path, grid: Grid, o: Outcome, answer: dict) -> None:
+def _take(outdir: Path, grid: Grid, o: Outcome, answer: dict, display=None,
+          display_exr: bool = False) -> None:
     if "error" in answer:
         o.status, o.error = "failed", answer["error"]
         return
     o.image, o.spp, o.seconds = answer["image"], int(answer["spp"]), float(answer["seconds"])
     o.mean_luminance = mean_luminance(o.image)
-    write_image(outdir, grid, o)
+    write_image(outdir, grid, o, display, display_exr)
     o.status = "rendered"

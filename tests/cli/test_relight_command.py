@@ -174,3 +174,23 @@ def test_spectral_layers_and_a_new_lamp_spectrum(tmp_path, capsys):
     assert main(["relight", str(spectral), "-L", "emitter1=1,NOPE", "-o", str(bad)]) == 2
     assert_one_line_error(capsys, "NOPE")
     assert not bad.exists() and not (tmp_path / "bad.spectral.exr").exists()
+
+
+def test_relight_display_options_change_the_png_only(layered, tmp_path, capsys):
+    """--exposure/--view make the PNG through the display pipeline: the relit EXR is
+    bit-identical to the one without them, the PNG differs."""
+    plain, shown = tmp_path / "plain.exr", tmp_path / "shown.exr"
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(plain)]) == 0
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(shown),
+                 "--exposure", "2", "--view", "neutral"]) == 0
+    assert plain.read_bytes() == shown.read_bytes()
+    assert plain.with_suffix(".png").read_bytes() != shown.with_suffix(".png").read_bytes()
+
+
+def test_relight_bad_display_option_writes_nothing(layered, tmp_path, capsys):
+    """An unknown view: one line naming the flag, exit 2, nothing written."""
+    out = tmp_path / "bad.exr"
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(out),
+                 "--view", "nosuch"]) == EXIT_USAGE
+    assert_one_line_error(capsys, "--view")
+    assert not out.exists() and not out.with_suffix(".png").exists()
