@@ -108,6 +108,14 @@ def run(args) -> int:
     shape = " x ".join(str(n) for n in grid.shape) or "1"
     heading = (f"sweeping {grid.scene.name}: {len(outcomes)} images ({shape}), {todo} to "
                f"render -> {outdir}")
+    dimming = sweeps.dimming_plan(grid) if todo else None
+    if dimming:
+        lights = ", ".join(f"{k} ({n} light{'' if n == 1 else 's'})"
+                           for k, n in dimming.items())
+        renders = len(grid.variants) * len(grid.seeds)
+        print(f"{lights}: only scales lights; {renders} light-group "
+              f"render{'' if renders == 1 else 's'} (one per variant and seed), relit for "
+              f"each of the {len(outcomes)} images instead of rendering each", flush=True)
     if not todo:  # nothing to render: no cluster
         print(heading, file=sys.stderr, flush=True)
         outcomes = sweeps.run(grid, None, outdir, outcomes=outcomes, **display)
