@@ -135,9 +135,6 @@ def run(args) -> int:
     elif args.bands is not None:
         raise UsageError("--bands applies only with --film spectral")
     light_groups = _light_groups(args)
-    if light_groups is not None and (args.workers is not None or args.scheduler):
-        raise UsageError("--light-groups/--light-group: not supported with --workers or "
-                         "--scheduler yet")
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
     _check_run_options(args)
@@ -238,9 +235,6 @@ def _check_run_options(args) -> None:
                          f"(got {args.noise})")
     if args.time is not None and not (0 < args.time and math.isfinite(args.time)):
         raise UsageError(f"--time must be a positive number of seconds (got {args.time})")
-    if (args.noise is not None or args.time is not None) and (args.workers or args.scheduler):
-        raise UsageError("--noise and --time work with the local pass loop only (not with "
-                         "--workers or --scheduler)")
 
 
 def _photometric(root) -> bool:
@@ -299,15 +293,6 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
     from spectrace.passes import render_passes
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
-        if client is not None:
-            from spectrace.cluster import SceneSpec, render_passes_distributed
-            from spectrace.passes import scene_spp_per_pass
-
-            bands = args.bands if args.film == "spectral" else None
-            spec = SceneSpec.make(scene_path, params, args.variant, bands)
-            per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
-            return render_passes_distributed(client, spec, spp, seed=args.seed,
-                                             spp_per_pass=per_pass, on_pass=on_pass)
         groups = _light_groups(args)
         if groups is None and type(scene.integrator()).__name__ == "LightGroups":
             groups = True  # the scene's own lightgroups integrator: write its layers
@@ -315,6 +300,21 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
         if args.noise is not None or args.time is not None:
             until_clean = {"noise": args.noise, "time_limit": args.time,
                            "on_noise": lambda e: on_pass.describe(f"error {e:.4f}")}
+        if client is not None:
+            from spectrace.cluster import SceneSpec, render_passes_distributed
+            from spectrace.passes import scene_spp_per_pass
+
+            bands = args.bands if args.film == "spectral" else None
+            spec = SceneSpec.make(scene_path, params, args.variant, bands, groups)
+            per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
+            result = render_passes_distributed(client, spec, spp, seed=args.seed,
+                                               spp_per_pass=per_pass, on_pass=on_pass,
+                                               **until_clean)
+            if groups is not None:  # the names of the layers, as the workers made them
+                from spectrace.lightgroups import integrator_for
+
+                result.light_groups = list((integrator or integrator_for(scene, True)).names)
+            return result
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
                              on_pass=on_pass, light_groups=groups, integrator=integrator,
                              **until_clean)

@@ -92,11 +92,10 @@ def test_relight_of_a_file_without_layers(tmp_path, capsys):
     (["--light-group", "a=emitter0", "--light-group", "b=emitter0"],
      "'emitter0' is in two light groups"),
     (["--light-group", "a.b=emitter0"], "letters, digits"),
-    (["--light-groups", "--workers", "1"], "--workers"),
 ])
 def test_render_bad_groups_write_nothing(tmp_path, capsys, options, words):
-    """An unknown emitter id, the same emitter in two groups, a bad group name, an option
-    light groups do not support yet: one line naming it, exit 2, nothing written."""
+    """An unknown emitter id, the same emitter in two groups, a bad group name: one line
+    naming it, exit 2, nothing written."""
     out = tmp_path / "x.exr"
     assert main(["render", str(SHOWCASE), "-o", str(out), *TINY, *options]) == EXIT_USAGE
     assert_one_line_error(capsys, words)
