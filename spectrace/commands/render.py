@@ -61,7 +61,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     groups = parser.add_mutually_exclusive_group()
     groups.add_argument("--light-groups", action="store_true",
                         help="also write one layer per emitter (<id>.R/G/B in the EXR; "
-                        "the scene's integrator must be path or direct)")
+                        "the scene's integrator must be path, direct or local; "
+                        "local adds a layer 'ambient')")
     groups.add_argument("--light-group", action="append", metavar="NAME=ID1,ID2",
                         dest="light_group", help="a layer NAME of these emitters (repeat "
                         "the option for more; emitters in no group form the group 'rest')")

@@ -103,13 +103,25 @@ def test_render_bad_groups_write_nothing(tmp_path, capsys, options, words):
 
 
 def test_render_refuses_integrators_it_cannot_split(tmp_path, capsys):
-    """A scene of the local integrator: light groups refused naming the integrator."""
+    """A scene of the volpath integrator: light groups refused naming the integrator."""
     out = tmp_path / "x.exr"
-    code = main(["render", str(ROOT / "scenes" / "falloff_laws.xml"), "-o", str(out),
+    code = main(["render", str(ROOT / "scenes" / "fog_volpath.xml"), "-o", str(out),
                  "--spp", "1", "-q", "--variant", "llvm_ad_rgb", "--light-groups"])
     assert code == EXIT_USAGE
-    assert_one_line_error(capsys, "'path' or 'direct'", "Local")
+    assert_one_line_error(capsys, "'path', 'direct' or 'local'", "Volumetric")
     assert not out.exists()
+
+
+def test_a_local_scene_has_a_layer_per_light_and_ambient(tmp_path):
+    """falloff_laws (integrator local, five lights): their layers and 'ambient' sum to the
+    beauty."""
+    out = tmp_path / "local.exr"
+    assert main(["render", str(ROOT / "scenes" / "falloff_laws.xml"), "-o", str(out),
+                 *TINY, "--light-groups"]) == 0
+    beauty, layers, _ = lightgroups.read_layers_exr(out)
+    assert list(layers) == [f"emitter{k}" for k in range(5)] + ["ambient"]
+    np.testing.assert_allclose(sum(layers.values()), beauty, rtol=0,
+                               atol=SUM_RTOL * beauty.max())
 
 
 OWN_INTEGRATOR = """<scene version="3.0.0">
