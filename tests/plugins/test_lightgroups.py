@@ -277,7 +277,7 @@ def test_unknown_and_missing_emitters_are_refused(variant_rgb):
     own = mi.load_dict({"type": "lightgroups", "groups": "a=lamp;b=spot"})
     with pytest.raises(ParameterError, match="'bulb' is in no group"):
         lightgroups.integrator_for(scene, True, own)
-    with pytest.raises(ParameterError, match="'path' or 'direct'"):
+    with pytest.raises(ParameterError, match="'path', 'direct' or 'local'"):
         lightgroups.integrator_for(scene, True, mi.load_dict({"type": "volpath"}))
 
 
