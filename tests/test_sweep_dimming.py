@@ -81,3 +81,27 @@ def test_dimming_sweep_is_relit_and_equals_the_rendered_sweep(scene, tmp_path, c
         assert abs(relit.mean() / ref.mean() - 1) < MEAN_RTOL
         rms = np.sqrt(np.mean((relit - ref) ** 2) / np.mean(ref ** 2))
         assert rms < RMS_RTOL, (row["dim"], rms)
+
+
+#: A `local` scene with point lights is deterministic: relit equals rendered to float
+#: rounding.
+LOCAL_ATOL = 1e-6
+
+
+def test_dimming_sweep_of_a_local_scene_keeps_its_ambient(tmp_path, local_cluster):
+    """integrator local with an ambient term: the ambient layer keeps scale 1 and the
+    relit images equal the rendered ones (the local model has no noise here)."""
+    scene = tmp_path / "local.xml"
+    scene.write_text(SCENE.replace(
+        '<integrator type="path"><integer name="max_depth" value="3"/></integrator>',
+        '<integrator type="local"><float name="ambient" value="0.1"/></integrator>'))
+    grid = sweeps.Grid.make(scene, {"dim": [0.5, 2]}, VARIANT)
+    assert sweeps.dimming_plan(grid) == {"dim": 1}
+    from distributed import Client
+
+    with Client(local_cluster, set_as_default=False) as client:
+        relit = sweeps.run(grid, client, tmp_path / "relit")
+        rendered = sweeps.run(grid, client, tmp_path / "rendered", relight=False)
+    for a, b in zip(relit, rendered, strict=True):
+        assert a.status == b.status == "rendered"
+        np.testing.assert_allclose(a.image, b.image, rtol=0, atol=LOCAL_ATOL)

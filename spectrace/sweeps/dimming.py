@@ -22,13 +22,14 @@ import re
 import time
 
 from spectrace.errors import SpectraceError
-from spectrace.lightgroups import REST_GROUP
 
 #: The parameters of an emitter that scale its emission linearly (besides ``luminous_*``).
 DIMMING_NAMES = ("intensity", "radiance", "irradiance", "scale", "power", "flux")
 _VALUE_TAGS = ("float", "spectrum", "rgb")
-#: Integrators the light-group render replaces (spectrace.lightgroups.REPLACED_INTEGRATORS).
-_INTEGRATORS = ("path", "direct", "lightgroups")
+#: Integrators of which a light-group render makes layers (spectrace.lightgroups).
+_INTEGRATORS = ("path", "direct", "lightgroups", "local")
+#: Layers a light-group render may add besides the swept ones: no swept name may be one.
+_OTHER_LAYERS = ("rest", "ambient")
 #: The EXR layer name of the swept parameter of index i (names must be GROUP_NAME safe).
 _LAYER = "dim{}"
 _ID = "spectrace-dim-{}-{}"
@@ -73,7 +74,7 @@ def dimming_plan(grid) -> dict[str, int] | None:
         return None
     plan, seen = {}, set()
     for name, values in grid.params.items():
-        if name == REST_GROUP or not all(_number(v) is not None for v in values):
+        if name in _OTHER_LAYERS or not all(_number(v) is not None for v in values):
             return None
         emitters = dimming_emitters(root, name)
         if emitters is None or any(id(e) in seen for e in emitters):
@@ -96,7 +97,8 @@ def render_dimming_layers(path: str, names: list[str], variant: str, spp: int | 
     """Task: the light-group render of the scene at ``path`` with the dimming parameters
     ``names`` at 1: ``{"layers": {name: (H, W, 3)
     float32, ..., "rest": ...}, "spp", "seconds"}`` (linear sRGB, ``rest`` only when other
-    emitters light the scene), or ``{"error": message}`` for a user's mistake."""
+    emitters light the scene; a ``local`` scene also has ``ambient``), or
+    ``{"error": message}`` for a user's mistake."""
     import numpy as np
 
     from spectrace import lightgroups
@@ -122,8 +124,8 @@ def render_dimming_layers(path: str, names: list[str], variant: str, spp: int | 
     except SpectraceError as e:
         return {"error": str(e)}
     _, layers = lightgroups.split(result.image, result.light_groups)
-    named = {names[int(g[3:])] if g != lightgroups.REST_GROUP else g: np.array(v)
-             for g, v in layers.items()}
+    layer_names = {_LAYER.format(i): name for i, name in enumerate(names)}
+    named = {layer_names.get(g, g): np.array(v) for g, v in layers.items()}
     return {"layers": named, "spp": result.spp, "seconds": time.perf_counter() - start}
 
 
