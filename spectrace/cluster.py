@@ -50,7 +50,17 @@ from pathlib import Path
 import numpy as np
 
 from spectrace.errors import ParameterError, SpectraceError, first_line
-from spectrace.passes import RenderResult, pass_seed, pass_sizes, render_passes, scene_spp
+from spectrace.passes import (
+    MIN_NOISE_PASSES,
+    UNTIL_CLEAN_MAX_SPP,
+    RenderResult,
+    check_until_clean,
+    pass_seed,
+    pass_sizes,
+    relative_error,
+    render_passes,
+    scene_spp,
+)
 from spectrace.signals import defer_sigint
 
 #: Worker processes of the default LocalCluster. Measured on the 2-core development machine
@@ -304,18 +314,26 @@ def worker_info() -> dict:
 
 @dataclass(frozen=True)
 class SceneSpec:
-    """A scene as a worker loads it: absolute path, ``-D`` parameters, variant, film bands."""
+    """A scene as a worker loads it: absolute path, ``-D`` parameters, variant, film bands,
+    light groups."""
 
     path: str
     params: tuple[tuple[str, str], ...] = ()
     variant: str = "llvm_ad_spectral"
     bands: int | None = None  # --film spectral: that many bands (spectrace.spectral_film)
+    #: ``light_groups`` of :func:`spectrace.lightgroups.integrator_for`: True (one group per
+    #: emitter) or the ``lightgroups`` plugin's ``groups`` string; None: the scene's own
+    #: integrator. With ``bands``: spectral layers on the scene's film.
+    light_groups: bool | str | None = None
 
     @classmethod
     def make(cls, path, params: dict | None = None, variant: str = "llvm_ad_spectral",
-             bands: int | None = None) -> SceneSpec:
+             bands: int | None = None, light_groups=None) -> SceneSpec:
+        """``light_groups``: True, a ``groups`` string, or ``["name=id1,id2", ...]``."""
         items = tuple((str(k), str(v)) for k, v in (params or {}).items())
-        return cls(str(Path(path).resolve()), items, variant, bands)
+        if light_groups is not None and not isinstance(light_groups, bool | str):
+            light_groups = ";".join(str(g) for g in light_groups)
+        return cls(str(Path(path).resolve()), items, variant, bands, light_groups)
 
     def load(self):
         """Set the variant and load the scene (SpectraceError for the user's mistakes)."""
@@ -323,7 +341,7 @@ class SceneSpec:
 
         ensure_variant(self.variant)
         params = dict(self.params)
-        if self.bands is None:
+        if self.bands is None or self.light_groups is not None:
             return load_scene(self.path, params)
         from spectrace.spectral_film import replace_film
 
@@ -331,35 +349,51 @@ class SceneSpec:
         replace_film(root, bands=self.bands)
         return load_scene(self.path, params, root=root)
 
+    def integrator(self, scene):
+        """The integrator of a render of ``scene``: the ``lightgroups`` one with
+        ``light_groups``, else None (the scene's own)."""
+        if self.light_groups is None:
+            return None
+        from spectrace.lightgroups import integrator_for
+
+        wavelengths = None
+        if self.bands is not None:
+            from spectrace.spectral_film import band_centres
+
+            wavelengths = band_centres(self.bands)
+        return integrator_for(scene, self.light_groups, band_wavelengths=wavelengths)
+
 
 def _cached_scene(spec: SceneSpec):
-    """The loaded scene of ``spec``; the last few are kept (passes of one render share it)."""
+    """The loaded scene of ``spec`` and its integrator (None: the scene's own); the last
+    few are kept (passes of one render share them)."""
     try:
         mtime = os.stat(spec.path).st_mtime_ns
     except OSError:
         mtime = None
     key = (spec, mtime)
-    scene = _state.scenes.get(key)
-    if scene is None:
+    loaded = _state.scenes.get(key)
+    if loaded is None:
         scene = spec.load()
+        loaded = (scene, spec.integrator(scene))
         while len(_state.scenes) >= _SCENE_CACHE_SIZE:
             _state.scenes.pop(next(iter(_state.scenes)))
-        _state.scenes[key] = scene
-    return scene
+        _state.scenes[key] = loaded
+    return loaded
 
 
 def render_pass(spec: SceneSpec, seed: int, index: int, n: int) -> tuple[np.ndarray, int]:
     """Task: pass ``index`` (``n`` spp) of a render with seed ``seed``: the float32
-    (H, W, C) image and the samples per pixel the sampler took (see
-    :func:`spectrace.passes.scene_spp`).
+    (H, W, C) image (with light groups: the layers' channels after the beauty's) and the
+    samples per pixel the sampler took (see :func:`spectrace.passes.scene_spp`).
 
     The same ``mi.render`` call, with the same pass seed, as the local loop's pass
     ``index`` (:func:`spectrace.passes.render_passes`).
     """
     import mitsuba as mi
 
-    scene = _cached_scene(spec)
-    img = mi.render(scene, spp=n, seed=pass_seed(seed, index))
+    scene, integrator = _cached_scene(spec)
+    img = mi.render(scene, spp=n, seed=pass_seed(seed, index), integrator=integrator)
     # a copy, and the tensor freed here: a view would keep it alive until the worker's
     # event loop drops the sent result, and Dr.Jit's frees there contend with the next pass
     image = np.array(img, dtype=np.float32)
@@ -395,7 +429,8 @@ def render_image(spec: SceneSpec, spp: int | None, seed: int,
 
 # ---------------------------------------------------------------- on the client
 
-def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -> RenderResult:
+def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool,
+             noise: float | None = None, stopped_by: str = "spp") -> RenderResult:
     """The numpy mean image from the sample-weighted float64 sum ``accum`` of ``done``
     samples."""
     image = (accum / done).astype(np.float32)
@@ -403,22 +438,69 @@ def _mean_of(accum, done: int, passes: int, seconds: float, interrupted: bool) -
     nonfinite = int(bad.sum())
     if nonfinite:  # never a NaN in an image: zero them and report the count
         image[bad] = 0.0
-    return RenderResult(image, done, passes, seconds, interrupted, nonfinite)
+    return RenderResult(image, done, passes, seconds, interrupted, nonfinite, noise,
+                        stopped_by)
+
+
+class _PassSums:
+    """The sample-weighted float64 sum of a render's passes. Without ``squares`` the passes
+    are added in index order (held back while an earlier one is missing), so the sum is
+    the local loop's, bit for bit; with ``squares`` (render until clean) as they arrive,
+    beside the sum of n_i I_i^2 that :func:`spectrace.passes.relative_error` needs."""
+
+    def __init__(self, squares: bool):
+        self.squares = squares
+        self.sum_w = self.sum_w2 = None
+        self.waiting: dict[int, tuple[np.ndarray, int]] = {}
+        self.next_index = 0
+        self.done = 0
+        self.passes = 0
+
+    def add(self, index: int, image: np.ndarray, n: int) -> None:
+        self.done += n
+        self.passes += 1
+        if self.squares:
+            self._fold(image, n)
+            return
+        self.waiting[index] = (image, n)
+        while self.next_index in self.waiting:
+            self._fold(*self.waiting.pop(self.next_index))
+            self.next_index += 1
+
+    def finish(self) -> None:
+        """Add the passes still held back (those after a cancelled one), in index order."""
+        for index in sorted(self.waiting):
+            self._fold(*self.waiting.pop(index))
+
+    def _fold(self, image: np.ndarray, n: int) -> None:
+        value = np.asarray(image, dtype=np.float64)
+        weighted = value * n
+        self.sum_w = weighted if self.sum_w is None else self.sum_w + weighted
+        if self.squares:
+            squared = weighted * value
+            self.sum_w2 = squared if self.sum_w2 is None else self.sum_w2 + squared
+
+    def relative_error(self) -> float:
+        return relative_error(self.sum_w, self.sum_w2, self.done, self.passes)
 
 
 def render_passes_distributed(
     client,
     spec,
-    spp: int,
+    spp: int | None = None,
     seed: int = 0,
     spp_per_pass: int = 16,
     on_pass: Callable[[int, int], None] | None = None,
     window: int | None = None,
+    noise: float | None = None,
+    time_limit: float | None = None,
+    on_noise: Callable[[float], None] | None = None,
 ) -> RenderResult:
     """:func:`spectrace.passes.render_passes` with its passes as tasks on ``client``'s workers.
 
-    ``spec`` is a :class:`SceneSpec` (what each worker loads); the client does not load
-    the scene, so the pass size is given (the command line gives
+    ``spec`` is a :class:`SceneSpec` (what each worker loads: with ``light_groups`` the
+    passes hold the layers too, and are summed with them); the client does not load the
+    scene, so the pass size is given (the command line gives
     :func:`~spectrace.passes.scene_spp_per_pass` of the scene it loaded, the local loop's
     default). Pass ``index`` has the local loop's seed
     :func:`~spectrace.passes.pass_seed` ``(seed, index)`` and sample count, and the passes
@@ -427,23 +509,37 @@ def render_passes_distributed(
     At most ``window`` passes (default: twice the workers' threads) are outstanding at a
     time. A SIGINT (Ctrl-C) cancels the outstanding passes and returns the mean of the
     passes done (``interrupted`` set). A pass whose worker dies is run again elsewhere.
+    ``noise``, ``time_limit``, ``on_noise``: render until clean as the local loop does
+    (the estimate after each finished pass, from :data:`~spectrace.passes.MIN_NOISE_PASSES`
+    passes on); when the target or the time is reached no more passes are submitted and
+    the outstanding ones are cancelled; ``spp`` is then the most it renders (None:
+    :data:`~spectrace.passes.UNTIL_CLEAN_MAX_SPP`), and the result's ``noise`` and
+    ``stopped_by`` say how it ended.
     The result's ``pixels`` are a numpy array (the workers send numpy arrays).
     """
     from distributed import as_completed
 
+    check_until_clean(noise, time_limit)
+    until_clean = noise is not None or time_limit is not None
+    if spp is None:
+        if not until_clean:
+            raise ParameterError("render_passes_distributed: spp is needed without noise "
+                                 "or time_limit (the client does not load the scene)")
+        spp = UNTIL_CLEAN_MAX_SPP
     sizes = pass_sizes(spp, spp_per_pass)
     if window is None:
         threads = sum(w.get("nthreads", 1) for w in
                       client.scheduler_info(n_workers=-1)["workers"].values())
         window = 2 * max(1, threads)
-    images: dict[int, np.ndarray] = {}
+    sums = _PassSums(squares=until_clean)
     ready = as_completed(loop=client.loop)
     pending: dict = {}  # future -> pass index
     next_index = 0
-    done = 0
+    estimate = None
+    stopped_by = "spp"
     start = time.perf_counter()
     with defer_sigint(stop_only=True) as stop:
-        while (pending or next_index < len(sizes)) and not stop.seen:
+        while (pending or next_index < len(sizes)) and not stop.seen and stopped_by == "spp":
             while next_index < len(sizes) and len(pending) < window:
                 future = client.submit(render_pass, spec, seed, next_index, sizes[next_index],
                                        pure=False, retries=RETRIES)
@@ -455,19 +551,36 @@ def render_passes_distributed(
                 continue
             for future in ready.next_batch(block=False):
                 index = pending.pop(future)
-                images[index], taken = future.result()  # a task's own error propagates
-                sizes[index] = taken  # the count the worker's sampler took
-                done += taken
+                image, taken = future.result()  # a task's own error propagates
+                sums.add(index, image, taken)  # the count the worker's sampler took
                 if on_pass is not None:
-                    on_pass(done, spp)
+                    on_pass(sums.done, spp)
+                if until_clean:
+                    estimate = sums.relative_error()
+                    if on_noise is not None and noise is not None:
+                        on_noise(estimate)
+                    stopped_by = _until_clean_stop(estimate, sums.passes, noise, time_limit,
+                                                   time.perf_counter() - start)
+                    if stopped_by != "spp":
+                        break
         if pending:
             client.cancel(list(pending))
-        interrupted = stop.seen and done < spp
+        if stop.seen:
+            stopped_by = "interrupt"
+        interrupted = stop.seen and sums.done < spp
+    sums.finish()
     seconds = time.perf_counter() - start
-    if not images:  # stopped before the first pass finished: nothing to average
+    if not sums.passes:  # stopped before the first pass finished: nothing to average
         return RenderResult(np.zeros((0, 0, 3), np.float32), 0, 0, seconds, True)
-    accum = None
-    for index in sorted(images):
-        img = np.asarray(images[index], dtype=np.float64) * sizes[index]
-        accum = img if accum is None else accum + img
-    return _mean_of(accum, done, len(images), seconds, interrupted)
+    return _mean_of(sums.sum_w, sums.done, sums.passes, seconds, interrupted, estimate,
+                    stopped_by)
+
+
+def _until_clean_stop(estimate: float, passes: int, noise: float | None,
+                      time_limit: float | None, elapsed: float) -> str:
+    """What ends a render until clean after a pass: "noise", "time", or "spp" (go on)."""
+    if noise is not None and passes >= MIN_NOISE_PASSES and estimate < noise:
+        return "noise"
+    if time_limit is not None and elapsed >= time_limit:
+        return "time"
+    return "spp"

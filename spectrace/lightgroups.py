@@ -21,7 +21,10 @@ When the render replaces the integrator (:func:`integrator_for`): a scene whose
 integrator is ``path`` keeps its ``max_depth``, ``rr_depth`` and ``hide_emitters``;
 ``direct`` becomes the same path tracer with ``max_depth`` 2 (direct light and the emitters
 seen directly: the same image in expectation, with its own noise); a scene already using
-``lightgroups`` keeps it. Other integrators (``local``, ``illuminance``, ``volpath``, ...),
+``lightgroups`` keeps it. A ``local`` scene keeps its integrator, whose loop over the lights
+adds each light's term to its group (``LocalLightGroups`` in the ``lightgroups`` plugin's
+module), with one more layer, ``ambient``: its ambient term and fog colour. Other
+integrators (``illuminance``: per-light lux is not done, ``volpath``, ...),
 films with a sensor response (``specfilm``) and polarized variants are refused for now.
 
 Spectral layers
@@ -195,12 +198,18 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0, band_waveleng
         raise ParameterError(f"light groups: the film {film.class_name()} has a sensor "
                              "response (a spectral film), which cannot hold layers; use "
                              "hdrfilm (spectral layers: band_wavelengths)")
-    if kind == "LightGroups":
+    if kind in ("LightGroups", "LocalLightGroups"):  # already one
         emitter_group_indices(scene, integrator.groups)
         return integrator
+    if kind == "Local":  # its light loop attributes each light's term (and 'ambient')
+        registry.require({"lightgroups"})
+        from spectrace.plugins.integrators.lightgroups import LocalLightGroups
+
+        return LocalLightGroups(integrator, resolve_groups(scene, light_groups),
+                                band_wavelengths)
     if kind not in REPLACED_INTEGRATORS:
-        raise ParameterError(f"light groups need the scene's integrator to be 'path' or "
-                             f"'direct' (it is {kind}); per-light layers of other "
+        raise ParameterError(f"light groups need the scene's integrator to be 'path', "
+                             f"'direct' or 'local' (it is {kind}); per-light layers of other "
                              "integrators are not supported yet")
     depths = {k: int(v) for k, v in _DEPTH.findall(str(integrator))}
     max_depth = REPLACED_INTEGRATORS[kind] or depths.get("max_depth", -1)

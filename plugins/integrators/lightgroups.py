@@ -84,6 +84,11 @@ Details:
   that is not a null BSDF, or sees the environment).
 * A scene whose integrator is ``lightgroups`` renders its layers with ``spectrace render``
   as with ``--light-groups``.
+* A scene of the ``local`` integrator gets its layers from ``local`` itself
+  (:class:`LocalLightGroups`, made by ``spectrace render --light-groups``): its loop over
+  the lights adds each light's term to the light's group, the emission seen directly goes
+  to the emitter's group, and the ambient term and fog colour form the last layer,
+  ``ambient``.
 
 Sources
 -------
@@ -124,6 +129,8 @@ PLUGIN = "lightgroups"
 RR_MAX_PROBABILITY = 0.95
 #: The channel of band j of a spectral layer: ``<group>.band000``.
 BAND_CHANNEL = "band{:03d}"
+#: The layer of a ``local`` scene's ambient term (:class:`LocalLightGroups`).
+AMBIENT_GROUP = "ambient"
 #: ``max_depth`` -1: no limit (Mitsuba's convention: 2^32 - 1 vertices).
 UNLIMITED_DEPTH = 0xFFFFFFFF
 
@@ -333,6 +340,58 @@ class LightGroups(mi.SamplingIntegrator):
                 total += L[i] * hat
             out.append(total / len(wavelengths))
         return out
+
+
+class LocalLightGroups(LightGroups):
+    """The layers of a scene's ``local`` integrator (not a plugin of its own:
+    :func:`spectrace.lightgroups.integrator_for` makes it around the scene's ``local``).
+
+    ``local`` sums its lights in one symbolic loop; with ``light_group_of`` set on it, that
+    loop also adds each light's term to the light's group. Here the emission seen directly
+    goes to the group of the emitter seen, both are multiplied by the fog fraction as
+    ``local`` does, and what remains of the beauty (the ``ambient`` term, the fog colour)
+    is the last layer, :data:`AMBIENT_GROUP`; so the layers sum to the beauty."""
+
+    def __init__(self, local, groups: dict, band_wavelengths=None):
+        props = mi.Properties(PLUGIN)
+        props["groups"] = lightgroups.format_groups(groups)
+        props["hide_emitters"] = bool(local.hide_emitters)
+        if band_wavelengths is not None:
+            props["band_wavelengths"] = ",".join(repr(float(w)) for w in band_wavelengths)
+        super().__init__(props)
+        if AMBIENT_GROUP in self.groups:
+            raise ParameterError(f"{PLUGIN}: light group {AMBIENT_GROUP!r} is reserved for "
+                                 "the ambient term of the local integrator")
+        self.local = local
+        self.names = [*self.groups, AMBIENT_GROUP]
+
+    def to_string(self):
+        return f"LocalLightGroups[{self.local.to_string()}, groups={self.names}]"
+
+    def sample(self, scene, sampler, ray, medium=None, active=True):
+        local, n_groups = self.local, len(self.groups)
+        local.light_group_of = mi.UInt32(lightgroups.emitter_group_indices(scene, self.groups))
+        local.light_group_count = n_groups
+        try:
+            L, valid, _ = local.sample(scene, sampler, ray, medium, active)
+            Lg = list(local.light_layers)
+        finally:
+            local.light_group_of = None
+        active = mi.Bool(active)
+        si = scene.ray_intersect(ray, mi.RayFlags.Minimal, coherent=True, active=active)
+        hit = active & si.is_valid()
+        Lg = [dr.select(hit, x, 0.0) for x in Lg] or [mi.Spectrum(0.0)] * n_groups
+        if not local.hide_emitters:  # the emitter seen directly: its group
+            table = self._group_table(scene)
+            emitter = si.emitter(scene, active)
+            gid = dr.gather(mi.UInt32, table, dr.reinterpret_array(mi.UInt32, emitter), active)
+            Le = emitter.eval(si, active)
+            Lg = [x + dr.select(gid == g, Le, 0.0) for g, x in enumerate(Lg)]
+        if local.fog != "none":
+            f = local.fog_fraction(dr.select(hit, si.t, dr.largest(mi.Float)))
+            Lg = [f * x for x in Lg]
+        ambient = L - sum(Lg[1:], Lg[0])  # the ambient term and the fog colour
+        return L, valid, self._layers([*Lg, ambient], ray, active, scene)
 
 
 mi.register_integrator(PLUGIN, lambda props: LightGroups(props))

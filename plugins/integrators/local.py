@@ -454,31 +454,45 @@ class Local(mi.SamplingIntegrator):
     def _sum_over_lights(self, scene, sampler, light, active):
         """sum over the scene's emitters j of ``light(emitter_j, sample_j, active)``, with
         ``sample_j = sampler.next_2d()``, as one symbolic Dr.Jit loop over the emitter
-        pointers: the kernel holds the body once, whatever the number of lights."""
+        pointers: the kernel holds the body once, whatever the number of lights.
+
+        Light groups (``spectrace.lightgroups``): with ``self.light_group_of`` set (a
+        UInt32 table, emitter index j -> group index, and ``self.light_group_count``),
+        each light's term is also added to its group's sum, left in
+        ``self.light_layers``."""
         n = len(scene.emitters())
         L = dr.zeros(mi.Spectrum, dr.width(active))
+        group_of = getattr(self, "light_group_of", None)
+        Lg = [] if group_of is None else [
+            dr.zeros(mi.Spectrum, dr.width(active)) for _ in range(self.light_group_count)]
+        self.light_layers = Lg
         if n == 0:
             return L
         emitters = scene.emitters_dr()
         state = self._environment_now
         skip = None if state is None else state.index
 
-        def body(j, L, sampler):
+        def body(j, L, Lg, sampler):
             on = active if skip is None else active & (j != skip)
             emitter = dr.gather(mi.EmitterPtr, emitters, j, on)
             if self.shadow_samples == 1:
-                L += light(emitter, sampler.next_2d(active), on)
+                term = light(emitter, sampler.next_2d(active), on)
             else:
-                L += self._averaged_light(emitter, sampler, light, on)
-            return j + 1, L, sampler
+                term = self._averaged_light(emitter, sampler, light, on)
+            L += term
+            if Lg:
+                g = dr.gather(mi.UInt32, group_of, j, on)
+                Lg = [x + dr.select(g == i, term, 0.0) for i, x in enumerate(Lg)]
+            return j + 1, L, Lg, sampler
 
-        _, L, _ = dr.while_loop(
-            state=(dr.zeros(mi.UInt32, dr.width(active)), L, sampler),
-            cond=lambda j, L, sampler: j < n,
+        _, L, Lg, _ = dr.while_loop(
+            state=(dr.zeros(mi.UInt32, dr.width(active)), L, Lg, sampler),
+            cond=lambda j, L, Lg, sampler: j < n,
             body=body,
-            labels=("j", "L", "sampler"),
+            labels=("j", "L", "Lg", "sampler"),
             label="local: lights",
         )
+        self.light_layers = Lg
         return L
 
     def _averaged_light(self, emitter, sampler, light, active):

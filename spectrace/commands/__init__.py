@@ -157,3 +157,19 @@ def display_settings(args, photometric: bool = False):
         return DisplaySettings(**values)
     except ParameterError as e:
         raise UsageError(f"--exposure, --ev100: {e}") from None
+
+
+def write_picture(png, rgb, settings, display_exr=None) -> tuple[str, ...]:
+    """The PNG of the linear sRGB image ``rgb``: plain sRGB with the default settings (and
+    no ``display_exr``), else through the display pipeline
+    (:func:`spectrace.display.write_display_png`); returns the pipeline's notes."""
+    if settings.is_default and display_exr is None:
+        from spectrace.images import write_png
+
+        write_png(png, rgb)
+        return ()
+    import numpy as np
+
+    from spectrace.display import write_display_png
+
+    return write_display_png(png, np.asarray(rgb, np.float32), settings, display_exr).notes

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from spectrace.commands import add_display_options, display_settings, write_picture
 from spectrace.errors import UsageError
 
 
@@ -28,14 +29,16 @@ def add_arguments(parser) -> None:
                         metavar="GROUP=SCALE[,SPECTRUM]",
                         help="scale the layer of GROUP (repeatable; others keep scale 1)")
     parser.add_argument("-o", "--output", required=True, help="output EXR (a PNG beside it)")
+    add_display_options(parser)
 
 
 def run(args) -> int:
     import time
 
     from spectrace import lightgroups
-    from spectrace.images import check_writable, write_png
+    from spectrace.images import check_writable
 
+    settings = display_settings(args)  # a bad display option: nothing read or written
     out = Path(args.output)
     if out.suffix.lower() != ".exr":
         raise UsageError(f"-o {out}: must end in .exr (the PNG is written beside it)")
@@ -49,7 +52,8 @@ def run(args) -> int:
             spectra[group] = spectrum
     png = out.with_suffix(".png")
     if lightgroups.is_spectral_layers_file(args.layers):
-        return _relight_spectral(args.layers, out, png, scales, spectra)
+        return _relight_spectral(args.layers, out, png, scales, spectra, settings,
+                                 args.display_exr)
     start = time.perf_counter()
     _, layers, header = lightgroups.read_layers_exr(args.layers)
     if spectra:
@@ -58,12 +62,14 @@ def run(args) -> int:
                          "(OUT.spectral.exr of render --film spectral --light-groups)")
     image, scaled = lightgroups.relight(layers, scales)
     seconds = time.perf_counter() - start
-    for p in (out, png):
-        check_writable(p)
+    display_exr = out.with_suffix(".display.exr") if args.display_exr else None
+    for p in (out, png, display_exr):
+        if p is not None:
+            check_writable(p)
     header = _header(header, scales, spectra)
     lightgroups.write_layers_exr(out, image, scaled, header)
-    write_png(png, image)
-    _report(layers, scales, seconds, out)
+    notes = write_picture(png, image, settings, display_exr)
+    _report(layers, scales, seconds, out, notes)
     return 0
 
 
@@ -74,18 +80,20 @@ def _header(header, scales, spectra):
     return kept
 
 
-def _report(layers, scales, seconds, out):
+def _report(layers, scales, seconds, out, notes=()):
     factors = ", ".join(f"{g} x{scales.get(g, 1.0):g}" for g in layers)
     print(f"relit {len(layers)} layers ({factors}) in {seconds * 1e3:.0f} ms -> {out}")
+    for note in notes:
+        print(note)
 
 
-def _relight_spectral(path, out, png, scales, spectra) -> int:
+def _relight_spectral(path, out, png, scales, spectra, settings, display) -> int:
     """Spectral layers: new intensities and lamp spectra; writes OUT.spectral.exr (the
     relit spectral layers), OUT.exr (their RGB) and the PNG."""
     import time
 
     from spectrace import lightgroups
-    from spectrace.images import check_writable, write_png
+    from spectrace.images import check_writable
     from spectrace.spectral import load_spd
     from spectrace.spectral_film import bands_to_linear_srgb
 
@@ -95,8 +103,10 @@ def _relight_spectral(path, out, png, scales, spectra) -> int:
     image, scaled = lightgroups.relight_spectral(layers, wavelengths, scales, new, old)
     seconds = time.perf_counter() - start
     spectral = out.with_suffix(".spectral.exr")
-    for p in (out, png, spectral):
-        check_writable(p)
+    display_exr = out.with_suffix(".display.exr") if display else None
+    for p in (out, png, spectral, display_exr):
+        if p is not None:
+            check_writable(p)
     recorded = dict(old)
     for g, (wl, values) in new.items():  # the new lamp spectrum, peak 1, for a next relight
         v = lightgroups.band_averages(wl, values, wavelengths)
@@ -107,6 +117,6 @@ def _relight_spectral(path, out, png, scales, spectra) -> int:
                                           recorded, header)
     lightgroups.write_layers_exr(out, rgb, {g: bands_to_linear_srgb(v, wavelengths)
                                             for g, v in scaled.items()}, header)
-    write_png(png, rgb)
-    _report(layers, scales, seconds, spectral)
+    notes = write_picture(png, rgb, settings, display_exr)
+    _report(layers, scales, seconds, spectral, notes)
     return 0

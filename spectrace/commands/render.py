@@ -22,6 +22,7 @@ from spectrace.commands import (
     display_settings,
     parse_defines,
     progress_bar,
+    write_picture,
 )
 from spectrace.errors import UsageError
 from spectrace.memory import check_pass
@@ -61,7 +62,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     groups = parser.add_mutually_exclusive_group()
     groups.add_argument("--light-groups", action="store_true",
                         help="also write one layer per emitter (<id>.R/G/B in the EXR; "
-                        "the scene's integrator must be path or direct)")
+                        "the scene's integrator must be path, direct or local; "
+                        "local adds a layer 'ambient')")
     groups.add_argument("--light-group", action="append", metavar="NAME=ID1,ID2",
                         dest="light_group", help="a layer NAME of these emitters (repeat "
                         "the option for more; emitters in no group form the group 'rest')")
@@ -135,9 +137,6 @@ def run(args) -> int:
     elif args.bands is not None:
         raise UsageError("--bands applies only with --film spectral")
     light_groups = _light_groups(args)
-    if light_groups is not None and (args.workers is not None or args.scheduler):
-        raise UsageError("--light-groups/--light-group: not supported with --workers or "
-                         "--scheduler yet")
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
     _check_run_options(args)
@@ -238,9 +237,6 @@ def _check_run_options(args) -> None:
                          f"(got {args.noise})")
     if args.time is not None and not (0 < args.time and math.isfinite(args.time)):
         raise UsageError(f"--time must be a positive number of seconds (got {args.time})")
-    if (args.noise is not None or args.time is not None) and (args.workers or args.scheduler):
-        raise UsageError("--noise and --time work with the local pass loop only (not with "
-                         "--workers or --scheduler)")
 
 
 def _photometric(root) -> bool:
@@ -299,15 +295,6 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
     from spectrace.passes import render_passes
 
     with progress_bar(spp, "spp", args.quiet) as on_pass:
-        if client is not None:
-            from spectrace.cluster import SceneSpec, render_passes_distributed
-            from spectrace.passes import scene_spp_per_pass
-
-            bands = args.bands if args.film == "spectral" else None
-            spec = SceneSpec.make(scene_path, params, args.variant, bands)
-            per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
-            return render_passes_distributed(client, spec, spp, seed=args.seed,
-                                             spp_per_pass=per_pass, on_pass=on_pass)
         groups = _light_groups(args)
         if groups is None and type(scene.integrator()).__name__ == "LightGroups":
             groups = True  # the scene's own lightgroups integrator: write its layers
@@ -315,6 +302,21 @@ def _render_with_progress(scene, spp, args, client=None, scene_path=None, params
         if args.noise is not None or args.time is not None:
             until_clean = {"noise": args.noise, "time_limit": args.time,
                            "on_noise": lambda e: on_pass.describe(f"error {e:.4f}")}
+        if client is not None:
+            from spectrace.cluster import SceneSpec, render_passes_distributed
+            from spectrace.passes import scene_spp_per_pass
+
+            bands = args.bands if args.film == "spectral" else None
+            spec = SceneSpec.make(scene_path, params, args.variant, bands, groups)
+            per_pass = scene_spp_per_pass(scene, spp, args.spp_per_pass)  # the local default
+            result = render_passes_distributed(client, spec, spp, seed=args.seed,
+                                               spp_per_pass=per_pass, on_pass=on_pass,
+                                               **until_clean)
+            if groups is not None:  # the names of the layers, as the workers made them
+                from spectrace.lightgroups import integrator_for
+
+                result.light_groups = list((integrator or integrator_for(scene, True)).names)
+            return result
         return render_passes(scene, spp, seed=args.seed, spp_per_pass=args.spp_per_pass,
                              on_pass=on_pass, light_groups=groups, integrator=integrator,
                              **until_clean)
@@ -325,7 +327,7 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene
     """Write the EXR (and the spectral EXR, the denoised EXR, or the light-group layers),
     then the PNG through the display pipeline; returns the pipeline's notes (the exposure
     used)."""
-    from spectrace.images import write_exr, write_png
+    from spectrace.images import write_exr
 
     header = {
         "spp": int(result.spp),
@@ -357,15 +359,7 @@ def _write_outputs(result, paths, wavelengths, args, scene_path, settings, scene
         albedo, normal = render_features(scene, result.spp, seed=args.seed)
         rgb = denoise_image(np.asarray(rgb, np.float32), albedo, normal)
         write_exr(paths["denoised"], rgb, {**header, "denoiser": "Open Image Denoise RT"})
-    if settings.is_default and "display" not in paths:  # the plain PNG (a tensor: mi.Bitmap)
-        write_png(paths["png"], rgb)
-        return ()
-    import numpy as np
-
-    from spectrace.display import write_display_png
-
-    return write_display_png(paths["png"], np.asarray(rgb, np.float32), settings,
-                             paths.get("display")).notes
+    return write_picture(paths["png"], rgb, settings, paths.get("display"))
 
 
 def _write_layers(result, paths, wavelengths, header, scene, integrator):

@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 from spectrace import DEFAULT_VARIANT
-from spectrace.commands import add_spp_per_pass
+from spectrace.commands import add_display_options, add_spp_per_pass, display_settings
 from spectrace.errors import UsageError
 
 EXIT_FAILED = 1
@@ -46,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="use the Dask cluster of this scheduler (tcp://host:8786); its "
                        "workers must read the scene and its assets at the same path")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    add_display_options(parser)
 
 
 def parse_sweep_defines(defines: list[str]) -> dict[str, list[str]]:
@@ -96,7 +97,10 @@ def run(args) -> int:
     seeds = parse_list(args.seeds, "--seeds", int)
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
+    display_settings(args)  # a bad display option: nothing rendered or written
     grid = sweeps.Grid.make(args.scene, params, variants, seeds, args.spp, args.spp_per_pass)
+    display = {"display": display_settings(args, _photometric(grid.scene)),
+               "display_exr": args.display_exr}
     outdir = Path(args.output) if args.output else Path("out") / f"sweep-{grid.scene.stem}"
     sweeps.check_outdir(outdir, create=False)  # before starting a cluster
     outcomes = sweeps.plan(grid, outdir)
@@ -104,16 +108,24 @@ def run(args) -> int:
     shape = " x ".join(str(n) for n in grid.shape) or "1"
     heading = (f"sweeping {grid.scene.name}: {len(outcomes)} images ({shape}), {todo} to "
                f"render -> {outdir}")
+    dimming = sweeps.dimming_plan(grid) if todo else None
+    if dimming:
+        lights = ", ".join(f"{k} ({n} light{'' if n == 1 else 's'})"
+                           for k, n in dimming.items())
+        renders = len(grid.variants) * len(grid.seeds)
+        print(f"{lights}: only scales lights; {renders} light-group "
+              f"render{'' if renders == 1 else 's'} (one per variant and seed), relit for "
+              f"each of the {len(outcomes)} images instead of rendering each", flush=True)
     if not todo:  # nothing to render: no cluster
         print(heading, file=sys.stderr, flush=True)
-        outcomes = sweeps.run(grid, None, outdir, outcomes=outcomes)
+        outcomes = sweeps.run(grid, None, outdir, outcomes=outcomes, **display)
     else:
         try:
             with connect(args.workers, args.scheduler, variant=grid.variants[0]) as client:
                 workers = len(client.scheduler_info(n_workers=-1)["workers"])
                 print(f"{heading} on {workers} workers", file=sys.stderr, flush=True)
                 outcomes = _run_with_progress(sweeps, grid, client, outdir, outcomes,
-                                              args.quiet)
+                                              args.quiet, display)
         except KeyboardInterrupt:
             done = sum(o.status in ("rendered", "skipped") for o in outcomes)
             kept = f"{done} of {len(outcomes)} images are in {outdir} (a re-run skips them)" \
@@ -131,10 +143,17 @@ def run(args) -> int:
     return EXIT_FAILED if counts["failed"] else 0
 
 
-def _run_with_progress(sweeps, grid, client, outdir, outcomes, quiet):
+def _photometric(scene) -> bool:
+    from spectrace.display_options import photometric_scene
+    from spectrace.scene import read_scene_xml
+
+    return photometric_scene(read_scene_xml(scene))
+
+
+def _run_with_progress(sweeps, grid, client, outdir, outcomes, quiet, display=None):
     from spectrace.commands import progress_bar
 
     finished = itertools.count(1)
     with progress_bar(len(outcomes), "images", quiet) as update:
         return sweeps.run(grid, client, outdir, keep_images=False, outcomes=outcomes,
-                          on_image=lambda o: update(next(finished)))
+                          on_image=lambda o: update(next(finished)), **(display or {}))

@@ -4,6 +4,7 @@
   combinations;
 * :mod:`~spectrace.sweeps.files`: file names, the EXR + PNG of an image, resuming;
 * :mod:`~spectrace.sweeps.run`: one Dask task per image (:func:`run`);
+* :mod:`~spectrace.sweeps.dimming`: a sweep of light intensities relit from one render;
 * :mod:`~spectrace.sweeps.results`: the images and ``results.csv`` as xarray objects;
 * :mod:`~spectrace.sweeps.sheet`: the contact sheet, xarray's faceted ``imshow``.
 
@@ -14,13 +15,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
+from spectrace.sweeps.dimming import dimming_plan
 from spectrace.sweeps.files import RESULTS, SHEET, check_outdir, plan, stem
 from spectrace.sweeps.grid import Combination, Grid, Outcome
 from spectrace.sweeps.results import results_table, to_dataarray, to_dataset, write_results
 from spectrace.sweeps.run import run
 from spectrace.sweeps.sheet import write_sheet
 
-__all__ = ["RESULTS", "SHEET", "Combination", "Grid", "Outcome", "check_outdir", "plan",
+__all__ = ["RESULTS", "SHEET", "Combination", "Grid", "Outcome", "check_outdir", "dimming_plan",
+           "plan",
            "results_table", "run", "stem", "sweep", "to_dataarray", "to_dataset",
            "write_results", "write_sheet"]
 

@@ -105,14 +105,23 @@ def _resume(outdir: Path, grid: Grid, outcome: Outcome) -> None:
     outcome.status = "skipped"
 
 
-def write_image(outdir: Path, grid: Grid, outcome: Outcome) -> None:
+def write_image(outdir: Path, grid: Grid, outcome: Outcome, display=None,
+                display_exr: bool = False) -> None:
     """The outcome's PNG, then its EXR (header: spp, variant, seed, scene, the combination,
-    seconds)."""
+    seconds). ``display``: :class:`spectrace.display.DisplaySettings` of the PNG (None or
+    the defaults: the plain sRGB PNG); ``display_exr``: also ``<stem>.display.exr``. The
+    EXR is the same with any of them."""
     from spectrace.images import write_exr, write_png
 
     header = {"spp": outcome.spp, "variant": outcome.combo.variant,
               "seed": int(outcome.combo.seed), "scene": str(grid.scene.resolve()),
               "film": "rgb", "sweep": identity(outcome.combo), "seconds": outcome.seconds}
     exr = outdir / outcome.file
-    write_png(exr.with_suffix(".png"), outcome.image)
+    if (display is None or display.is_default) and not display_exr:
+        write_png(exr.with_suffix(".png"), outcome.image)
+    else:
+        from spectrace.display import write_display_png
+
+        write_display_png(exr.with_suffix(".png"), outcome.image, display,
+                          exr.with_suffix(".display.exr") if display_exr else None)
     write_exr(exr, outcome.image, header)

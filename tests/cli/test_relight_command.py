@@ -92,11 +92,10 @@ def test_relight_of_a_file_without_layers(tmp_path, capsys):
     (["--light-group", "a=emitter0", "--light-group", "b=emitter0"],
      "'emitter0' is in two light groups"),
     (["--light-group", "a.b=emitter0"], "letters, digits"),
-    (["--light-groups", "--workers", "1"], "--workers"),
 ])
 def test_render_bad_groups_write_nothing(tmp_path, capsys, options, words):
-    """An unknown emitter id, the same emitter in two groups, a bad group name, an option
-    light groups do not support yet: one line naming it, exit 2, nothing written."""
+    """An unknown emitter id, the same emitter in two groups, a bad group name: one line
+    naming it, exit 2, nothing written."""
     out = tmp_path / "x.exr"
     assert main(["render", str(SHOWCASE), "-o", str(out), *TINY, *options]) == EXIT_USAGE
     assert_one_line_error(capsys, words)
@@ -104,13 +103,25 @@ def test_render_bad_groups_write_nothing(tmp_path, capsys, options, words):
 
 
 def test_render_refuses_integrators_it_cannot_split(tmp_path, capsys):
-    """A scene of the local integrator: light groups refused naming the integrator."""
+    """A scene of the volpath integrator: light groups refused naming the integrator."""
     out = tmp_path / "x.exr"
-    code = main(["render", str(ROOT / "scenes" / "falloff_laws.xml"), "-o", str(out),
+    code = main(["render", str(ROOT / "scenes" / "fog_volpath.xml"), "-o", str(out),
                  "--spp", "1", "-q", "--variant", "llvm_ad_rgb", "--light-groups"])
     assert code == EXIT_USAGE
-    assert_one_line_error(capsys, "'path' or 'direct'", "Local")
+    assert_one_line_error(capsys, "'path', 'direct' or 'local'", "Volumetric")
     assert not out.exists()
+
+
+def test_a_local_scene_has_a_layer_per_light_and_ambient(tmp_path):
+    """falloff_laws (integrator local, five lights): their layers and 'ambient' sum to the
+    beauty."""
+    out = tmp_path / "local.exr"
+    assert main(["render", str(ROOT / "scenes" / "falloff_laws.xml"), "-o", str(out),
+                 *TINY, "--light-groups"]) == 0
+    beauty, layers, _ = lightgroups.read_layers_exr(out)
+    assert list(layers) == [f"emitter{k}" for k in range(5)] + ["ambient"]
+    np.testing.assert_allclose(sum(layers.values()), beauty, rtol=0,
+                               atol=SUM_RTOL * beauty.max())
 
 
 OWN_INTEGRATOR = """<scene version="3.0.0">
@@ -174,3 +185,23 @@ def test_spectral_layers_and_a_new_lamp_spectrum(tmp_path, capsys):
     assert main(["relight", str(spectral), "-L", "emitter1=1,NOPE", "-o", str(bad)]) == 2
     assert_one_line_error(capsys, "NOPE")
     assert not bad.exists() and not (tmp_path / "bad.spectral.exr").exists()
+
+
+def test_relight_display_options_change_the_png_only(layered, tmp_path, capsys):
+    """--exposure/--view make the PNG through the display pipeline: the relit EXR is
+    bit-identical to the one without them, the PNG differs."""
+    plain, shown = tmp_path / "plain.exr", tmp_path / "shown.exr"
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(plain)]) == 0
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(shown),
+                 "--exposure", "2", "--view", "neutral"]) == 0
+    assert plain.read_bytes() == shown.read_bytes()
+    assert plain.with_suffix(".png").read_bytes() != shown.with_suffix(".png").read_bytes()
+
+
+def test_relight_bad_display_option_writes_nothing(layered, tmp_path, capsys):
+    """An unknown view: one line naming the flag, exit 2, nothing written."""
+    out = tmp_path / "bad.exr"
+    assert main(["relight", str(layered), "-L", "emitter1=0.3", "-o", str(out),
+                 "--view", "nosuch"]) == EXIT_USAGE
+    assert_one_line_error(capsys, "--view")
+    assert not out.exists() and not out.with_suffix(".png").exists()

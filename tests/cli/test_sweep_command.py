@@ -138,7 +138,7 @@ def test_ctrl_c_says_how_many_images_are_kept(tmp_path, capsys, monkeypatch):
         def scheduler_info(self, n_workers=-1):
             return {"workers": {"tcp://127.0.0.1:1": {}}}
 
-    def interrupted_run(sweep, grid, client, outdir, outcomes, quiet):
+    def interrupted_run(sweep, grid, client, outdir, outcomes, quiet, display=None):
         outcomes[0].status = "rendered"  # one image written, then Ctrl-C
         raise KeyboardInterrupt
 
@@ -148,3 +148,29 @@ def test_ctrl_c_says_how_many_images_are_kept(tmp_path, capsys, monkeypatch):
     assert code == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1] == f"interrupted: 1 of 2 images are in {tmp_path / 's'} (a re-run skips them)"
+
+
+def test_sweep_display_options_change_the_pngs_only(tmp_path, capsys, scheduler):
+    """--exposure/--view: each image's EXR is bit-identical to the sweep's without them
+    (same seed), its PNG made by the display pipeline differs."""
+    runs = {}
+    for name, extra in (("plain", []), ("shown", ["--exposure", "2", "--view", "neutral"])):
+        out = tmp_path / name
+        assert main(["sweep", str(SHOWCASE), "-D", "res=16", "-D", "max_depth=2,3",
+                     "--variants", VARIANT, "--spp", "4", "-o", str(out), "-q",
+                     "--scheduler", scheduler, *extra]) == 0
+        runs[name] = sorted(out.glob("*.exr"))
+    assert len(runs["plain"]) == 2
+    for plain, shown in zip(runs["plain"], runs["shown"], strict=True):
+        np.testing.assert_array_equal(read_exr(plain)[0], read_exr(shown)[0])
+        assert plain.with_suffix(".png").read_bytes() != shown.with_suffix(".png").read_bytes()
+
+
+def test_sweep_bad_display_option_exits_2_and_writes_nothing(tmp_path, capsys):
+    """--exposure nan: one line naming the flag, exit 2, no folder, no cluster."""
+    out = tmp_path / "sweep"
+    code = main(["sweep", str(SHOWCASE), "-D", "res=16", "-o", str(out), "-q",
+                 "--exposure", "nan"])
+    assert code == EXIT_USAGE
+    assert_one_line_error(capsys, "--exposure")
+    assert not out.exists()

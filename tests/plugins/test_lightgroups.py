@@ -277,7 +277,7 @@ def test_unknown_and_missing_emitters_are_refused(variant_rgb):
     own = mi.load_dict({"type": "lightgroups", "groups": "a=lamp;b=spot"})
     with pytest.raises(ParameterError, match="'bulb' is in no group"):
         lightgroups.integrator_for(scene, True, own)
-    with pytest.raises(ParameterError, match="'path' or 'direct'"):
+    with pytest.raises(ParameterError, match="'path', 'direct' or 'local'"):
         lightgroups.integrator_for(scene, True, mi.load_dict({"type": "volpath"}))
 
 
@@ -350,3 +350,60 @@ def test_new_lamp_spectrum_by_relighting_equals_a_fresh_render(variant_spectral)
     np.testing.assert_allclose(a.mean(axis=(0, 1)), b.mean(axis=(0, 1)),
                                rtol=RELIGHT_MEAN_RTOL)
     assert np.sqrt(np.mean((a - b) ** 2)) / b.mean() < RELIGHT_PIXEL_RTOL
+
+
+LOCAL_SCENE = """<scene version="3.0.0">
+  <integrator type="local">{ambient}{fog}</integrator>
+  <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 3"
+      target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>
+    <rfilter type="box"/></film></sensor>
+  <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
+  </shape>
+  {lamps}
+</scene>
+"""
+LOCAL_LAMPS = {
+    "key": '<emitter type="point" id="key"><point name="position" x="0.5" y="0" z="1"/>'
+           '<rgb name="intensity" value="2, 1, 0.5"/></emitter>',
+    "fill": '<emitter type="point" id="fill"><point name="position" x="-1" y="0.5" z="1"/>'
+            '<float name="intensity" value="0.7"/></emitter>',
+}
+LOCAL_AMBIENT = 0.2
+LOCAL_ALBEDO = 0.5
+#: Layers of the deterministic local model (point lights) against renders of one light.
+LOCAL_ATOL = 1e-6
+#: The fog fraction at the centre pixel against exp(-density * 3 m) (measured 0.2 %).
+LOCAL_FOG_RTOL = 5e-3
+
+
+def _local_scene(lamps, ambient=True, fog=False):
+    return mi.load_string(LOCAL_SCENE.format(
+        ambient=f'<float name="ambient" value="{LOCAL_AMBIENT}"/>' if ambient else "",
+        fog='<string name="fog" value="exponential"/><float name="fog_density" value="0.2"/>'
+            if fog else "",
+        lamps="".join(LOCAL_LAMPS[k] for k in lamps)))
+
+
+@pytest.mark.parametrize("fog", [False, True])
+def test_local_layers_are_its_lights_and_ambient(variant_rgb, fog):
+    """`local` scene, --light-groups: one layer per light and 'ambient'; the layers sum to
+    the beauty, a light's layer is the image of the scene with that light alone and no
+    ambient (point lights: the model is deterministic), and the ambient layer is
+    rho / pi * E_ambient on the surface (times the fog fraction)."""
+    scene = _local_scene(["key", "fill"], fog=fog)
+    result = spectrace.render(scene, spp=4, light_groups=True)
+    beauty, layers = lightgroups.split(result.image, result.light_groups)
+    assert list(layers) == ["key", "fill", "ambient"]
+    np.testing.assert_allclose(sum(layers.values()), beauty, rtol=0,
+                               atol=SUM_RTOL * beauty.max())
+    for name in ("key", "fill"):
+        alone = spectrace.render(_local_scene([name], ambient=False, fog=fog), spp=4).image
+        np.testing.assert_allclose(layers[name], alone[..., :3], rtol=0, atol=LOCAL_ATOL)
+        assert layers[name].max() > 0
+    centre = layers["ambient"][8, 8]
+    if not fog:
+        np.testing.assert_allclose(centre, LOCAL_ALBEDO / np.pi * LOCAL_AMBIENT, rtol=1e-5)
+    else:  # attenuated by the fog fraction, about exp(-0.2 d) at d = 3 m; no fog colour
+        np.testing.assert_allclose(centre, LOCAL_ALBEDO / np.pi * LOCAL_AMBIENT
+                                   * np.exp(-0.2 * 3), rtol=LOCAL_FOG_RTOL)
