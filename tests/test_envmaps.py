@@ -90,11 +90,12 @@ RTOL_FLOAT32 = 1e-4
 
 @pytest.mark.parametrize("height", [8, 33])
 def test_latlong_lookup_is_mitsubas_envmap(variant_rgb, rng, height):
-    """Mitsuba's ``envmap`` of a random latlong map gives, from random directions (and from
-    the texels' own directions but the poles', where u is arbitrary), exactly the bilinear ``lookup`` of the map at
-    ``direction_to_uv``: the rows sit at v = i / (H - 1) from pole to pole, the columns at
-    (j + 1/2) / W. (A pixel-centre row convention v = (i + 1/2) / H is off by up to half a
-    row and fails this by far more than float32 rounding.)"""
+    """Mitsuba's ``envmap`` of a random latlong map gives, from random directions (and
+    from the texels' own directions but the poles', where u is arbitrary), exactly the
+    bilinear ``lookup`` of the map at ``direction_to_uv``: the rows sit at v = i / (H - 1)
+    from pole to pole, the columns at (j + 1/2) / W. (A pixel-centre row convention
+    v = (i + 1/2) / H is off by up to half a row and fails this by far more than float32
+    rounding.)"""
     image = rng.random((height, 2 * height, 3))
     d = rng.normal(size=(4000, 3))
     inner = envmaps.texel_uv(height, 2 * height, "latlong")[1:-1]

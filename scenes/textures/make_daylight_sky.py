@@ -7,10 +7,11 @@
 degrees (south-south-east) and 35 degrees elevation, above a ground of reflectance 0.2,
 evaluated by the ``ciesky`` emitter itself (RGB variant, white spectrum) at the texels
 (columns at their centres, rows from the zenith to the nadir as Mitsuba reads them:
-``spectrace.envmaps.texel_uv``). Values are relative: the zenith is 1 (scale the map to lux with ``spectrace
-envmap convert --illuminance``). ``uniform_sky.exr``: the same size, 1 above the horizon
-and 0.2 below (a constant sky over a ground of reflectance 0.2), for comparisons. The sun's disk
-itself is not in the map (a 0.53 degree disk is far below one texel: add a ``sun``).
+``spectrace.envmaps.texel_uv``). Values are relative: the zenith is 1 (scale the map to
+lux with ``spectrace envmap convert --illuminance``). ``uniform_sky.exr``: the same size,
+1 above the horizon and 0.2 below (a constant sky over a ground of reflectance 0.2), for
+comparisons. The sun's disk itself is not in the map (a 0.53 degree disk is far below one
+texel: add a ``sun``).
 """
 
 from __future__ import annotations
