@@ -9,7 +9,8 @@ right and v downwards, and back. All arrays are numpy, with the vector axis last
 layout                  projector
 ======================  ==============================================================
 ``latlong``             Blinn and Newell (1976), Mitsuba's ``envmap`` convention:
-                        u = atan2(x, -z) / (2 pi) (mod 1), v = acos(y) / pi; 2:1
+                        u = atan2(x, -z) / (2 pi) (mod 1), v = acos(y) / pi; 2:1;
+                        texel (i, j) at u = (j + 1/2) / W, v = i / (H - 1) (below)
 ``sphere``              mirror ball (sphere map) seen from +Z: the ball normal
                         n = normalize(d + (0, 0, 1)), u = (1 + n_x) / 2, v = (1 - n_y) / 2;
                         d = 2 n_z n - (0, 0, 1); 1:1
@@ -20,6 +21,16 @@ layout                  projector
 ``cross_vertical``      the same cube as a 3:4 cross: +Y, front, -Y, then +Z (turned by
                         180 degrees) in the middle column
 ======================  ==============================================================
+
+Texels: in every layout but ``latlong``, texel (i, j) of an H x W image sits at its pixel
+centre ((j + 1/2) / W, (i + 1/2) / H). A ``latlong`` map has its columns there too, but
+its rows run from pole to pole, v_i = i / (H - 1) (theta_i = i Delta, Delta = pi / (H - 1)):
+row 0 is the zenith, row H - 1 the nadir, as Mitsuba's ``envmap`` reads them (bilinear
+between rows, :func:`texel_uv`, :func:`lookup`). The solid angle of a latlong texel is the
+integral of its bilinear hat function, (2 pi / W) integral hat_i(theta) sin(theta) dtheta:
+(2 pi / W) 2 (1 - cos Delta) / Delta sin(theta_i) inside, (2 pi / W) (1 - sin Delta / Delta)
+for the two pole rows (:func:`latlong_solid_angles`); they sum to 4 pi exactly, so a
+uniform map integrates exactly.
 
 Cube faces are seen from inside: face f has a forward axis F, right R and up U, and its
 pixel at (s, t) in [-1, 1]^2 (t downwards) looks along F + s R - t U, so that neighbouring
@@ -293,11 +304,50 @@ def pixel_centres(height: int, width: int):
     return np.stack([uu, vv], axis=-1)
 
 
+def _latlong_rows(height: int) -> int:
+    """H - 1, the number of row intervals from pole to pole (a latlong map needs 2 rows)."""
+    if height < 2:
+        raise ParameterError(f"a latlong map needs at least 2 rows (got {height})")
+    return height - 1
+
+
+def texel_uv(height: int, width: int, layout: str):
+    """(u, v) of the texels of an H x W image of ``layout``, (H, W, 2): the pixel centres,
+    except that latlong rows run from pole to pole, v = i / (H - 1) (Mitsuba's ``envmap``)."""
+    uv = pixel_centres(height, width)
+    if _check_layout(layout) == "latlong":
+        uv[..., 1] = (np.arange(height) / _latlong_rows(height))[:, None]
+    return uv
+
+
+def _hat_integrals(height: int, F0, F1, theta_max=np.pi):
+    """integral hat_i(theta) g(theta) dtheta over [0, theta_max] for each latlong row i,
+    hat_i the bilinear weight of row i (1 at theta_i, 0 at its neighbours), given
+    antiderivatives F0 of g and F1 of theta g."""
+    delta = np.pi / _latlong_rows(height)
+    lower = np.arange(height - 1) * delta  # interval k = [theta_k, theta_k+1]: rows k, k + 1
+    a, b = np.minimum(lower, theta_max), np.minimum(lower + delta, theta_max)
+    g0, g1 = F0(b) - F0(a), F1(b) - F1(a)  # integral g, integral theta g over the interval
+    weights = np.zeros(height)
+    weights[:-1] += ((lower + delta) * g0 - g1) / delta  # falling side of row k
+    weights[1:] += (g1 - lower * g0) / delta  # rising side of row k + 1
+    return weights
+
+
+def latlong_solid_angles(height: int, width: int):
+    """Solid angle (sr) of each texel of an H x W latlong map, (H, W): the integral of its
+    bilinear hat function over the sphere (module docstring); they sum to 4 pi."""
+    rows = _hat_integrals(height, lambda t: -np.cos(t), lambda t: np.sin(t) - t * np.cos(t))
+    return np.repeat((2 * np.pi / width) * rows[:, None], width, axis=1)
+
+
 def lookup(image, uv, layout: str):
-    """Bilinear lookup of ``image`` (H, W, C) at ``uv`` (..., 2); latlong wraps in u."""
+    """Bilinear lookup of ``image`` (H, W, C) at ``uv`` (..., 2) between its texels
+    (:func:`texel_uv`); latlong wraps in u, as Mitsuba's ``envmap`` evaluates it."""
     height, width = image.shape[:2]
     x = uv[..., 0] * width - 0.5
-    y = uv[..., 1] * height - 0.5
+    y = (uv[..., 1] * _latlong_rows(height) if layout == "latlong"
+         else uv[..., 1] * height - 0.5)
     x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
     fx, fy = (x - x0)[..., None], (y - y0)[..., None]
 
@@ -333,7 +383,7 @@ def convert(image, source: str, target: str, size: int | None = None):
     _check_layout(source)
     _check_layout(target)
     height, width = output_shape(target, size or image.shape[0])
-    uv = pixel_centres(height, width)
+    uv = texel_uv(height, width, target)
     valid = PROJECTORS[target][2](uv)
     d = uv_to_direction(uv, target)
     d = np.where(valid[..., None], d, np.array([0.0, 1.0, 0.0]))
@@ -342,21 +392,26 @@ def convert(image, source: str, target: str, size: int | None = None):
 
 
 def horizontal_illuminance(image, layout: str, up=(0.0, 1.0, 0.0)) -> float:
-    """Illuminance (lux) on a horizontal plane from the map's upper hemisphere: the sum of
-    the texels' luminance Y (Rec. 709 weights of linear RGB radiance) times cos(theta)
-    times their solid angle, times K_m integral V (the photometric convention of
-    ``spectrace help luminous``). Solid angles come from the converted 2:1 latlong grid."""
+    """Illuminance (lux) on a horizontal plane from the map's upper hemisphere: the
+    integral of the luminance Y (Rec. 709 weights of linear RGB radiance) times cos(theta)
+    over the map as Mitsuba's ``envmap`` renders it (bilinear between the texels of its
+    latlong form), times K_m integral V (the photometric convention of ``spectrace help
+    luminous``). For ``up`` = +Y this is exact: texel (i, j) weighs (2 pi / W) integral
+    hat_i(theta) sin(theta) max(cos(theta), 0) dtheta; another ``up`` sums the texels'
+    solid angles (:func:`latlong_solid_angles`) times max(up . omega, 0)."""
     latlong = image if layout == "latlong" else convert(image, layout, "latlong",
                                                         max(image.shape[0], 64))
     height, width = latlong.shape[:2]
-    uv = pixel_centres(height, width)
-    d = latlong_to_direction(uv)
-    theta = np.pi * uv[..., 1]
-    solid_angle = (np.pi / height) * (2 * np.pi / width) * np.sin(theta)
     Y = latlong[..., :3] @ np.array([0.2126, 0.7152, 0.0722]) if latlong.shape[-1] >= 3 \
         else latlong[..., 0]
-    cos = np.clip(d @ np.asarray(up, dtype=np.float64), 0.0, None)
-    return float(LUX_PER_Y * np.sum(Y * cos * solid_angle))
+    up = np.asarray(up, dtype=np.float64)
+    if np.allclose(up, (0.0, 1.0, 0.0)):
+        rows = _hat_integrals(height, lambda t: np.sin(t) ** 2 / 2,
+                              lambda t: np.sin(2 * t) / 8 - t * np.cos(2 * t) / 4, np.pi / 2)
+        return float(LUX_PER_Y * (2 * np.pi / width) * np.sum(rows @ Y))
+    d = latlong_to_direction(texel_uv(height, width, "latlong"))
+    cos = np.clip(d @ up, 0.0, None)
+    return float(LUX_PER_Y * np.sum(Y * cos * latlong_solid_angles(height, width)))
 
 
 # -- files ----------------------------------------------------------------------------------
@@ -515,15 +570,14 @@ SH_BANDS = (0, 1, 1, 1, 2, 2, 2, 2, 2)
 
 def sh_project(image, layout: str = "latlong"):
     """L_lm = integral L(omega) Y_lm(omega) d omega of a map (H, W, C): (9, C), the
-    integral a sum over the texels of its latlong form times their solid angles."""
+    integral a sum over the texels of its latlong form times their solid angles
+    (:func:`latlong_solid_angles`)."""
     latlong = np.asarray(image, dtype=np.float64)
     if layout != "latlong":
         latlong = convert(latlong, layout, "latlong", max(latlong.shape[0], 64))
     height, width = latlong.shape[:2]
-    uv = pixel_centres(height, width)
-    d = latlong_to_direction(uv)
-    solid_angle = (np.pi / height) * (2 * np.pi / width) * np.sin(np.pi * uv[..., 1])
-    Y = sh_basis(d) * solid_angle[..., None]
+    d = latlong_to_direction(texel_uv(height, width, "latlong"))
+    Y = sh_basis(d) * latlong_solid_angles(height, width)[..., None]
     return np.einsum("hwk,hwc->kc", Y, latlong)
 
 

@@ -4,7 +4,8 @@ Reads a latitude-longitude (2:1), mirror-ball or angular (1:1; ``--from angular`
 light probe) or cube-cross (4:3 horizontal, 3:4 vertical) map from EXR, HDR or PNG and
 writes it in another layout as EXR or HDR (six separate cube faces: a file name with
 ``{face}``, replaced by px, nx, py, ny, pz, nz, for the input or with ``--to faces``):
-``latlong`` is what Mitsuba's ``envmap`` reads (with its importance sampling).
+``latlong`` is what Mitsuba's ``envmap`` reads (with its importance sampling): its rows
+run from the zenith (first) to the nadir (last), columns at their centres.
 ``--illuminance LUX`` scales the map so that a horizontal plane receives LUX from its
 upper hemisphere; ``--scale S`` multiplies it. Prints the
 layouts and the illuminance before and after. The projectors are
