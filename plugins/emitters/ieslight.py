@@ -1,6 +1,7 @@
 """``ieslight``: a real luminaire from its IES LM-63 or EULUMDAT photometric file, in candela.
 
-A point at the origin of ``to_world`` that emits in each direction the luminous intensity
+A luminaire at the origin of ``to_world`` (a point, or the luminous opening that the file
+or ``opening`` gives: see Opening below) that emits in each direction the luminous intensity
 that a photometric file (``.ies``: IES LM-63-1986 to -2019; ``.ldt``: EULUMDAT) gives for
 it, read by ``spectrace.photometry`` (``spectrace ies FILE`` shows what a file holds), with
 the spectral shape of ``spectrum``. The file's candela values are absolute: the light emits
@@ -40,6 +41,19 @@ parameter            type       default         unit  description
 ``sampling_weight``  float      1               --    relative chance that an integrator picks
                                                       this light to sample (Mitsuba's
                                                       emitters) |exposed|
+``opening``          string     file            --    the luminous opening: ``file`` (the shape
+                                                      and size the file gives; a point when its
+                                                      dimensions are 0), ``point`` (the delta
+                                                      light), ``rectangle``, ``disk``,
+                                                      ``sphere`` or ``box`` with the sizes below
+``width``            float      --              m     ``rectangle``, ``box``: the size along
+                                                      C90-C270 (local y); > 0
+``length``           float      --              m     ``rectangle``, ``box``: the size along
+                                                      C0-C180 (local x); > 0
+``height``           float      --              m     ``box``: the size along gamma = 0 (local
+                                                      z); > 0
+``diameter``         float      --              m     ``disk`` (facing gamma = 0), ``sphere``;
+                                                      > 0
 ===================  =========  ==============  ====  ==========================================
 
 The emission parameters of the other lights (``intensity``, ``power``,
@@ -114,6 +128,34 @@ RGB and mono variants the integral is Y(s) integral V dlambda, Y = 0.2126 R + 0.
 0.0722 B the luminance of the colour s (or its value): the same lux and the same image in
 every variant (``spectrace help luminous``).
 
+Opening. With an opening that is not a point, each point x of its surface emits the
+luminance::
+
+    L(x, omega) = I_e(omega) / A_proj(omega)
+
+(W/(sr m^2); for the file's candela cd/m^2), A_proj the area the opening shows along omega:
+4 hx hy |cos gamma| (rectangle), pi r^2 |cos gamma| (disk), pi r^2 (sphere),
+y z |d_x| + x z |d_y| + x y |d_z| (box of edges x, y, z). Integrated over the opening,
+sum L cos(theta_x) dA = I_e(omega): far away it is the file's intensity, and it emits the
+file's flux; near it the lux differ from the point law (``spectrace ies FILE`` prints the
+difference at the photometric distance). The flat openings (rectangle, disk) emit from
+both faces, so that light above the horizon (gamma > 90) keeps its intensity too. The
+opening lies centred on the photometric centre (the origin of ``to_world``, which must
+then be rigid), the length along C0-C180 (local x) and the width along C90-C270 (local y),
+as Radiance's ``ies2rad`` reads them. Of the file's shapes (``Photometry.opening``) the
+light renders rectangle, disk, sphere and box; another one (an ellipse, a cylinder, ...)
+is refused with ``opening`` ``file``: give ``point`` or one of those with its sizes.
+
+As ``pointlight``'s ``source_radius`` (``spectrace help sized``), spectrace's scene loader
+puts an ``ieslight`` with an opening on a black ``rectangle``, ``disk``, ``sphere`` or
+``cube`` of that size (``mi.load_dict`` users: ``sized.expand_dict``): one element in the
+XML, a luminaire the camera sees with its luminance L and that BSDF-sampled rays hit
+(multiple importance sampling in ``path``, ``volpath``, ``direct``). Next-event estimation
+samples the sphere and the rectangle by the solid angle they subtend, the disk by solid
+angle near it (``opening``'s ``auto``), the box by area over the faces the point sees
+(each in proportion to its area times the cosine towards the point); the distance law must
+be ``inverse_square``. ``opening`` ``point`` keeps the delta light exactly.
+
 Light tracing. ``sample_ray`` picks a cell [C_i, C_i+1] x [gamma_j, gamma_j+1] of the
 profile's grid (``Photometry.angle_grid``; with Mitsuba's ``DiscreteDistribution``) with
 probability proportional to
@@ -123,7 +165,9 @@ bilinear interpolant of the corners in (C, cos gamma), uniform in solid angle fo
 cell (Type B: cells [V_i, V_i+1] x [H_j, H_j+1], Omega_ij = (V_i+1 - V_i) (sin H_j+1 -
 sin H_j), bilinear in (V, sin H)). The ray's weight is I_e(omega) / pdf(omega) with the
 exact profile, so ``ptracer`` converges to ``direct`` and a constant profile gives every ray
-the weight 4 pi I_e (as ``pointlight``).
+the weight 4 pi I_e (as ``pointlight``). With an opening: a point uniform on its surface
+(area A, both faces of a flat one) and a cosine-distributed direction about its normal,
+of weight pi A L(omega).
 
 From Python. The plugin reads a file; the light itself takes a ``Photometry`` (its
 ``angle_grid``: the table in its own angles, symmetry expanded), a spectrum and a scale. A
@@ -161,6 +205,14 @@ A downlight 2.8 m above the floor, of a warm-white LED spectrum, rescaled to 120
         </transform>
         <spectrum name="spectrum" filename="luminaires/led_3000k.spd"/>
         <float name="luminous_flux" value="1200"/>
+    </emitter>
+
+The same downlight as a 15 cm disk, whatever opening its file gives::
+
+    <emitter type="ieslight">
+        <string name="filename" value="luminaires/downlight.ies"/>
+        <string name="opening" value="disk"/>
+        <float name="diameter" value="0.15"/>
     </emitter>
 """
 

@@ -29,6 +29,9 @@ RTOL_FLUX = 5e-3
 FLUX_NODES = 20
 #: The radiance seen by a meter against I / A_proj (the meter's rays, float32 lookups).
 RTOL_RADIANCE = 2e-3
+#: The mean weight of N_RAYS rays of sample_ray against the flux.
+N_RAYS = 400_000
+RTOL_RAYS = 1e-2
 #: A Lambertian file's on-axis intensity (cd).
 I0 = 100.0
 #: Variants in which the emitted luminance is checked.
@@ -287,3 +290,88 @@ def test_cli_bad_opening_exits_2(variant_rgb, tmp_path):
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and "'diameter'" in lines[0], run.stderr
     assert not out.exists()
+
+
+def test_sample_ray_weights_average_to_the_flux(variant_rgb, tmp_path):
+    """The rays that ``sample_ray`` draws from a box opening (uniform on its surface,
+    cosine about the normal) carry on average the file's flux: mean weight = Phi_e =
+    Phi_v / (K_m integral V) for a white light (N_RAYS rays)."""
+    import drjit as dr
+    import mitsuba as mi
+    from spectrace.photometry import read_photometry
+
+    path = washer_file(tmp_path, (0.2, 0.5, 0.3))
+    light = mi.load_dict({"type": "ieslight", "filename": path})
+    rng = np.random.default_rng(3)
+    u = rng.random((5, N_RAYS))
+    _, weight = light.sample_ray(0.0, mi.Float(u[0]), mi.Point2f(u[1], u[2]),
+                                 mi.Point2f(u[3], u[4]))
+    mean = float(np.mean(np.array(weight)[0]))
+    flux = read_photometry(path).flux
+    assert mean * checks.KM * checks.CIE_Y_INTEGRAL == pytest.approx(flux, rel=RTOL_RAYS)
+
+
+def test_scene_loader_puts_the_opening_on_its_shape(variant_rgb, tmp_path):
+    """One ``<emitter type="ieslight">`` of a file with an opening becomes, at scene load,
+    a shape carrying the light (so that it is visible and hit by BSDF rays); with
+    ``opening`` 'point' it stays a delta light without a shape."""
+    from spectrace.lighting.glare import has_visible_lights
+    from spectrace.scene import load_scene
+
+    washer_file(tmp_path, (0.2, 0.5, 0.0))
+    for opening, shapes in (("file", 1), ("point", 0)):
+        scene_path = tmp_path / f"{opening}.xml"
+        scene_path.write_text(
+            '<scene version="3.0.0"><integrator type="direct"/><sensor type="perspective"/>'
+            '<emitter type="ieslight"><string name="filename" value="washer.ies"/>'
+            f'<string name="opening" value="{opening}"/></emitter></scene>')
+        scene = load_scene(scene_path)
+        assert len(scene.shapes()) == shapes
+        assert (scene.emitters()[0].get_shape() is not None) == bool(shapes)
+        assert has_visible_lights(scene) == bool(shapes)
+
+
+def test_luminaires_scene_has_visible_luminaires(variant_rgb):
+    """scenes/luminaires.xml: each of its four luminaires is its file's opening, on a
+    shape (visible, so that a glare rating can be computed from the view)."""
+    from pathlib import Path
+
+    from spectrace.lighting.glare import has_visible_lights
+    from spectrace.scene import load_scene
+
+    scene = load_scene(Path(__file__).parents[2] / "scenes" / "luminaires.xml",
+                       {"res": "16", "spp": "1"})
+    lights = [e for e in scene.emitters() if "IESLight" in str(e)]
+    assert len(lights) == 4 and all(e.get_shape() is not None for e in lights)
+    assert has_visible_lights(scene)
+
+
+#: Light tracing against path tracing: relative error of 8x8-pixel block means.
+RTOL_PTRACER = 0.05
+
+
+def test_ptracer_agrees_with_path(variant, tmp_path):
+    """Light tracing (``ptracer``: rays from the opening's surface, the visible opening
+    connected to the camera) converges to ``path``'s image of a plane 0.4 m under a
+    tilted box opening and of the box itself (its luminance), in RGB and spectral."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import sized
+
+    to_world = mi.ScalarTransform4f().look_at([0.2, 0.4, 0.0], [0.5, 0.0, 0.3], [0, 0, 1])
+    light = {"type": "ieslight", "filename": washer_file(tmp_path, (0.3, 0.5, 0.2)),
+             "to_world": to_world}
+    images = []
+    for integrator, spp, seed in (({"type": "path", "max_depth": 2}, 64, 0),
+                                  ({"type": "ptracer", "max_depth": 2}, 256, 3)):
+        scene = sized.expand_dict(checks.plane_scene(light, integrator, spp=spp,
+                                                     sensor="perspective", res=32))
+        images.append(np.array(mi.render(mi.load_dict(scene), seed=seed),
+                               dtype=np.float64)[..., :3])
+    path, traced = (block_means(image) for image in images)
+    np.testing.assert_allclose(traced, path, rtol=RTOL_PTRACER,
+                               atol=RTOL_PTRACER * path.max())
+
+
+def block_means(image, block: int = 8):
+    h, w, c = image.shape
+    return image.reshape(h // block, block, w // block, block, c).mean(axis=(1, 3)).sum(-1)
