@@ -41,6 +41,7 @@ def test_rectangle_against_howell(tmp_path):
     from under their corner: E = 4 pi L F(a/2, b/2, c) (Howell B-3), L = I0 / (a b); at
     the default distance, 5 times the largest dimension."""
     from spectrace.photometry.near_field import axial_near_field_error
+
     from spectrace.validation.reference import rectangle_corner_factor
 
     a, b = 0.6, 0.2

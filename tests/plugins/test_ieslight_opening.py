@@ -59,8 +59,9 @@ def washer_file(tmp_path, opening=(0.0, 0.0, 0.0)):
 def lux(light: dict, points, normals, spp: int = SPP):
     """(E, stderr) in lux at ``points`` from ``light`` on its shape, alone in a scene."""
     import mitsuba as mi
-    from spectrace.lighting.points import measure_points
     from spectrace.plugins.emitters import sized
+
+    from spectrace.lighting.points import measure_points
 
     scene = mi.load_dict(sized.expand_dict({"type": "scene", "light": light}))
     E, err, _ = measure_points(scene, np.asarray(points, float), np.asarray(normals, float),
@@ -128,6 +129,7 @@ def test_flux_through_a_closed_box(variant_rgb, tmp_path, opening):
     quadrature of the illuminance over its six faces), to within 0.5%: the opening emits
     the file's flux."""
     from spectrace.photometry import read_photometry
+
     from spectrace.validation.reference import gauss_legendre_grid
 
     path = washer_file(tmp_path, opening)
@@ -158,9 +160,10 @@ def test_meter_sees_intensity_over_projected_area(tmp_path, variant_name, openin
     L = I(omega) / A_proj(omega) of the file's intensity in the meter's direction omega
     (L_v = K_m integral V L_e, from the film's Y), in RGB, spectral and mono."""
     import mitsuba as mi
-    import spectrace
     from spectrace.photometry import read_photometry
     from spectrace.plugins.emitters import sized
+
+    import spectrace
 
     spectrace.set_variant(variant_name)
     sphere = opening[1] == 0.0
@@ -234,8 +237,8 @@ def test_point_keeps_the_delta_light(variant_rgb, tmp_path):
     import mitsuba as mi
 
     directions, _ = checks.sphere_quadrature(8, 8)
-    sized_file = washer_file(tmp_path / "a" if (tmp_path / "a").mkdir() is None else None,
-                             (0.2, 0.5, 0.1))
+    (tmp_path / "sized").mkdir()
+    sized_file = washer_file(tmp_path / "sized", (0.2, 0.5, 0.1))
     plain = washer_file(tmp_path)
     a = checks.eval_intensity(mi.load_dict({"type": "ieslight", "filename": sized_file,
                                             "opening": "point"}), directions)
@@ -296,7 +299,6 @@ def test_sample_ray_weights_average_to_the_flux(variant_rgb, tmp_path):
     """The rays that ``sample_ray`` draws from a box opening (uniform on its surface,
     cosine about the normal) carry on average the file's flux: mean weight = Phi_e =
     Phi_v / (K_m integral V) for a white light (N_RAYS rays)."""
-    import drjit as dr
     import mitsuba as mi
     from spectrace.photometry import read_photometry
 
@@ -375,3 +377,21 @@ def test_ptracer_agrees_with_path(variant, tmp_path):
 def block_means(image, block: int = 8):
     h, w, c = image.shape
     return image.reshape(h // block, block, w // block, block, c).mean(axis=(1, 3)).sum(-1)
+
+
+def test_lux_rates_the_glare_of_the_visible_luminaires(tmp_path):
+    """``spectrace lux scenes/luminaires.xml --ugr``: the luminaires are seen (their
+    openings), so the view has glare sources and a unified glare rating."""
+    import re
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    scene = Path(__file__).parents[2] / "scenes" / "luminaires.xml"
+    spectrace = Path(sys.executable).parent / "spectrace"
+    run = subprocess.run([str(spectrace), "lux", str(scene), "--ugr", "-D", "res=48",
+                          "-o", str(tmp_path / "lux.exr")], capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr
+    match = re.search(r"UGR (-?[\d.]+) .*: (\d+) source pixels", run.stdout)
+    assert match and int(match.group(2)) > 0, run.stdout
