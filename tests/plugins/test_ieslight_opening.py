@@ -395,3 +395,27 @@ def test_lux_rates_the_glare_of_the_visible_luminaires(tmp_path):
     assert run.returncode == 0, run.stderr
     match = re.search(r"UGR (-?[\d.]+) .*: (\d+) source pixels", run.stdout)
     assert match and int(match.group(2)) > 0, run.stdout
+
+
+def test_a_file_shape_it_does_not_render_is_refused(variant_rgb, tmp_path):
+    """A file whose opening is an ellipse (LM-63-2002: width and length negative and
+    unequal) fails at load with ``opening`` 'file', one line naming the parameter and
+    the shape; ``opening`` 'point' or an explicit shape loads it."""
+    import mitsuba as mi
+
+    path = lambertian_file(tmp_path, (-0.2, -0.4, 0.0))
+    with pytest.raises(RuntimeError, match="'opening'.*ellipse") as error:
+        mi.load_dict({"type": "ieslight", "filename": path})
+    assert "ieslight" in str(error.value)
+    from spectrace.errors import ParameterError
+    from spectrace.scene import load_scene
+
+    scene = tmp_path / "scene.xml"
+    scene.write_text('<scene version="3.0.0"><integrator type="direct"/>'
+                     '<sensor type="perspective"/><emitter type="ieslight">'
+                     '<string name="filename" value="lambert.ies"/></emitter></scene>')
+    with pytest.raises(ParameterError) as error:
+        load_scene(scene)
+    assert "\n" not in str(error.value) and "'opening'" in str(error.value)
+    for params in ({"opening": "point"}, {"opening": "disk", "diameter": 0.3}):
+        mi.load_dict({"type": "ieslight", "filename": path, **params})
