@@ -331,6 +331,11 @@ def test_scene_loader_puts_the_opening_on_its_shape(variant_rgb, tmp_path):
         assert len(scene.shapes()) == shapes
         assert (scene.emitters()[0].get_shape() is not None) == bool(shapes)
         assert has_visible_lights(scene) == bool(shapes)
+    import mitsuba as mi
+
+    unshaped = mi.load_dict({"type": "scene", "light": {  # no loader: lights, is not seen
+        "type": "ieslight", "filename": str(tmp_path / "washer.ies")}})
+    assert not has_visible_lights(unshaped)
 
 
 def test_luminaires_scene_has_visible_luminaires(variant_rgb):
