@@ -90,10 +90,12 @@ def load_scene(path: str | Path, params: dict[str, str] | None = None, root=None
     check_finite_numbers(tree, params, path)
     from spectrace import registry
 
-    if any(element.get("name") == "source_radius" for element in tree.iter()):
+    if any(element.get("name") == "source_radius" or element.get("type") == "ieslight"
+           for element in tree.iter()):
         from spectrace.plugins.emitters import sized  # lights with a size: onto their shapes
 
-        if sized.expand_tree(tree, {**scene_defaults(tree), **params}):
+        if sized.expand_tree(tree, {**scene_defaults(tree), **params},
+                             str(path.resolve().parent)):
             root = tree
 
     with defer_sigint():  # plugin modules execute Mitsuba calls: no Ctrl-C inside them

@@ -1,6 +1,7 @@
 """``ieslight``: a real luminaire from its IES LM-63 or EULUMDAT photometric file, in candela.
 
-A point at the origin of ``to_world`` that emits in each direction the luminous intensity
+A luminaire at the origin of ``to_world`` (a point, or the luminous opening that the file
+or ``opening`` gives: see Opening below) that emits in each direction the luminous intensity
 that a photometric file (``.ies``: IES LM-63-1986 to -2019; ``.ldt``: EULUMDAT) gives for
 it, read by ``spectrace.photometry`` (``spectrace ies FILE`` shows what a file holds), with
 the spectral shape of ``spectrum``. The file's candela values are absolute: the light emits
@@ -40,6 +41,19 @@ parameter            type       default         unit  description
 ``sampling_weight``  float      1               --    relative chance that an integrator picks
                                                       this light to sample (Mitsuba's
                                                       emitters) |exposed|
+``opening``          string     file            --    the luminous opening: ``file`` (the shape
+                                                      and size the file gives; a point when its
+                                                      dimensions are 0), ``point`` (the delta
+                                                      light), ``rectangle``, ``disk``,
+                                                      ``sphere`` or ``box`` with the sizes below
+``width``            float      --              m     ``rectangle``, ``box``: the size along
+                                                      C90-C270 (local y); > 0
+``length``           float      --              m     ``rectangle``, ``box``: the size along
+                                                      C0-C180 (local x); > 0
+``height``           float      --              m     ``box``: the size along gamma = 0 (local
+                                                      z); > 0
+``diameter``         float      --              m     ``disk`` (facing gamma = 0), ``sphere``;
+                                                      > 0
 ===================  =========  ==============  ====  ==========================================
 
 The emission parameters of the other lights (``intensity``, ``power``,
@@ -114,6 +128,34 @@ RGB and mono variants the integral is Y(s) integral V dlambda, Y = 0.2126 R + 0.
 0.0722 B the luminance of the colour s (or its value): the same lux and the same image in
 every variant (``spectrace help luminous``).
 
+Opening. With an opening that is not a point, each point x of its surface emits the
+luminance::
+
+    L(x, omega) = I_e(omega) / A_proj(omega)
+
+(W/(sr m^2); for the file's candela cd/m^2), A_proj the area the opening shows along omega:
+4 hx hy |cos gamma| (rectangle), pi r^2 |cos gamma| (disk), pi r^2 (sphere),
+y z |d_x| + x z |d_y| + x y |d_z| (box of edges x, y, z). Integrated over the opening,
+sum L cos(theta_x) dA = I_e(omega): far away it is the file's intensity, and it emits the
+file's flux; near it the lux differ from the point law (``spectrace ies FILE`` prints the
+difference at the photometric distance). The flat openings (rectangle, disk) emit from
+both faces, so that light above the horizon (gamma > 90) keeps its intensity too. The
+opening lies centred on the photometric centre (the origin of ``to_world``, which must
+then be rigid), the length along C0-C180 (local x) and the width along C90-C270 (local y),
+as Radiance's ``ies2rad`` reads them. Of the file's shapes (``Photometry.opening``) the
+light renders rectangle, disk, sphere and box; another one (an ellipse, a cylinder, ...)
+is refused with ``opening`` ``file``: give ``point`` or one of those with its sizes.
+
+As ``pointlight``'s ``source_radius`` (``spectrace help sized``), spectrace's scene loader
+puts an ``ieslight`` with an opening on a black ``rectangle``, ``disk``, ``sphere`` or
+``cube`` of that size (``mi.load_dict`` users: ``sized.expand_dict``): one element in the
+XML, a luminaire the camera sees with its luminance L and that BSDF-sampled rays hit
+(multiple importance sampling in ``path``, ``volpath``, ``direct``). Next-event estimation
+samples the sphere and the rectangle by the solid angle they subtend, the disk by solid
+angle near it (``opening``'s ``auto``), the box by area over the faces the point sees
+(each in proportion to its area times the cosine towards the point); the distance law must
+be ``inverse_square``. ``opening`` ``point`` keeps the delta light exactly.
+
 Light tracing. ``sample_ray`` picks a cell [C_i, C_i+1] x [gamma_j, gamma_j+1] of the
 profile's grid (``Photometry.angle_grid``; with Mitsuba's ``DiscreteDistribution``) with
 probability proportional to
@@ -123,7 +165,9 @@ bilinear interpolant of the corners in (C, cos gamma), uniform in solid angle fo
 cell (Type B: cells [V_i, V_i+1] x [H_j, H_j+1], Omega_ij = (V_i+1 - V_i) (sin H_j+1 -
 sin H_j), bilinear in (V, sin H)). The ray's weight is I_e(omega) / pdf(omega) with the
 exact profile, so ``ptracer`` converges to ``direct`` and a constant profile gives every ray
-the weight 4 pi I_e (as ``pointlight``).
+the weight 4 pi I_e (as ``pointlight``). With an opening: a point uniform on its surface
+(area A, both faces of a flat one) and a cosine-distributed direction about its normal,
+of weight pi A L(omega).
 
 From Python. The plugin reads a file; the light itself takes a ``Photometry`` (its
 ``angle_grid``: the table in its own angles, symmetry expanded), a spectrum and a scale. A
@@ -162,6 +206,14 @@ A downlight 2.8 m above the floor, of a warm-white LED spectrum, rescaled to 120
         <spectrum name="spectrum" filename="luminaires/led_3000k.spd"/>
         <float name="luminous_flux" value="1200"/>
     </emitter>
+
+The same downlight as a 15 cm disk, whatever opening its file gives::
+
+    <emitter type="ieslight">
+        <string name="filename" value="luminaires/downlight.ies"/>
+        <string name="opening" value="disk"/>
+        <float name="diameter" value="0.15"/>
+    </emitter>
 """
 
 from __future__ import annotations
@@ -173,7 +225,7 @@ from typing import TYPE_CHECKING
 import drjit as dr
 import mitsuba as mi
 from spectrace.plugins import params
-from spectrace.plugins.emitters import delta, falloff, luminous
+from spectrace.plugins.emitters import delta, falloff, luminous, opening, sized
 
 from spectrace.errors import FileAccessError, ParameterError, SpectraceError, first_line
 
@@ -385,9 +437,30 @@ class IESLight(delta.DeltaLight):
         self.law = falloff.parse_falloff(props, PLUGIN)
         self._init_profile()
         self.luminous = None
-        self.m_flags = mi.EmitterFlags.DeltaPosition
-        self.m_needs_sample_3 = False
+        self.opening_kind, self.half = self._read_opening(props)
+        if self.opening_kind == "point":
+            self.m_flags = mi.EmitterFlags.DeltaPosition
+            self.m_needs_sample_3 = False
+        else:
+            sized.check_sized(PLUGIN, self.law, props.get("to_world", None))
+            # Not Surface: Mitsuba's scene drops top-level Surface emitters (see sized).
+            self.m_flags = mi.EmitterFlags.Empty
         self._update()
+
+    def _read_opening(self, props):
+        """The opening's kind and half-extents (``sized.resolve_opening``)."""
+        values = {"opening": params.read_string(props, PLUGIN, "opening", None)}
+        for name in sized.IES_SIZES:
+            values[name] = params.read_float(props, PLUGIN, name, None)
+        photometry = self.photometry
+
+        def file_opening():
+            try:
+                return photometry.opening
+            except SpectraceError as error:
+                raise type(error)(f"{PLUGIN}: {first_line(error)}") from None
+
+        return sized.resolve_opening(values, file_opening, PLUGIN)
 
     # -- profile ------------------------------------------------------------------------
 
@@ -515,6 +588,11 @@ class IESLight(delta.DeltaLight):
         the traversed parameters, which are never rebound (mi.traverse holds references)."""
         self.to_local = self.to_world.inverse()
         self.position = self.to_world.translation()
+        # the flat openings' back face: the frame turned by 180 degrees about local x
+        flip = mi.Transform4f(mi.Matrix4f(mi.ScalarTransform4f().scale([1.0, -1.0, -1.0]).matrix))
+        self.to_world_back = self.to_world @ flip
+        self.to_local_back = self.to_world_back.inverse()
+        dr.make_opaque(self.to_world_back, self.to_local_back)
         scale = self.scale_value * luminous.watts_per_lumen_dr(self.intensity)
         if self.luminous_flux is not None:
             scale = scale * self.luminous_flux * (1.0 / self.file_flux)
@@ -547,27 +625,178 @@ class IESLight(delta.DeltaLight):
         return value * (self.candela(local_d) * self.scale)
 
     def sample_ray(self, time, wavelength_sample, sample2, sample3, active=True):
-        wavelengths, weight = self.sample_wavelengths(
-            dr.zeros(mi.SurfaceInteraction3f), wavelength_sample, active
+        wavelengths, weight = delta.DeltaLight.sample_wavelengths(
+            self, dr.zeros(mi.SurfaceInteraction3f), wavelength_sample, active
         )
+        if self.opening_kind != "point":
+            # A point uniform on the opening's surface, a cosine-distributed direction
+            # about its normal: weight L(omega) pi A.
+            p, n, area = self._surface_point(sample2)
+            d = mi.Frame3f(n).to_world(mi.warp.square_to_cosine_hemisphere(sample3))
+            ray = sized.spawn_ray(p, n, d, time, wavelengths)
+            ratio = self._candela_per_area(self.to_local @ d) * (dr.pi * area)
+            return ray, self._out(weight * ratio)
         local_d, ratio = self._sample_local_direction(sample2)
         ray = mi.Ray3f(self.position, self.to_world @ local_d, time, wavelengths)
         return ray, self._out(weight * ratio)
 
     def sample_direction(self, it, sample, active=True):
+        if self.opening_kind != "point":
+            p, n, pdf = self._sample_opening(it.p, sample)
+            ds = sized.direction_sample(self, it, p, n, pdf)
+            lit = active & (pdf > 0.0)
+            value = self._radiance(self.to_local @ (-ds.d), it.wavelengths, lit)
+            return ds, dr.select(lit, value * dr.rcp(pdf), 0.0)
         ds, dist2 = self._direction_sample(it)
         local_d = self.to_local @ (-ds.d)
         value = self._emitted(local_d, it.wavelengths, active) * self.law(dist2)
         return ds, self._out(value)
 
     def eval_direction(self, it, ds, active=True):
+        if self.opening_kind != "point":
+            return self._radiance(self.to_local @ (-ds.d), it.wavelengths, active)
         d = mi.Vector3f(it.p - ds.p)
         local_d = self.to_local @ d
         value = self._emitted(local_d, it.wavelengths, active)
         return self._out(value * self.law(dr.squared_norm(d)))
 
     def sample_position(self, time, sample, active=True):
+        if self.opening_kind != "point":
+            p, n, area = self._surface_point(sample)
+            ps, weight = sized.position_sample(time, p, n, area)
+            return ps, weight if self.get_shape() is not None else weight * 0.0
         return self._position_sample(time), mi.Float(1.0)
+
+    # -- the opening --------------------------------------------------------------------
+
+    def _flat_frame(self, back):
+        """The flat opening's frame facing the side ``back`` (local -Z) or the front."""
+        to_world = mi.Transform4f(dr.select(back, self.to_world_back.matrix,
+                                            self.to_world.matrix))
+        to_local = mi.Transform4f(dr.select(back, self.to_local_back.matrix,
+                                            self.to_local.matrix))
+        return to_world, to_local
+
+    def _sample_opening(self, ref_p, sample):
+        """``(p, n, pdf)``: a point of the opening seen from ``ref_p`` (by solid angle for
+        the sphere, the rectangle and near the disk; by area over the faces seen for the
+        box), its normal on the side seen and the density in solid angle."""
+        hx, hy, hz = self.half
+        if self.opening_kind == "sphere":
+            return opening.sphere_sample_direction(self.position, hx, ref_p, sample)
+        if self.opening_kind == "box":
+            return opening.box_sample_direction(self.to_world, self.to_local, self.half,
+                                                ref_p, sample)
+        to_world, to_local = self._flat_frame((self.to_local @ ref_p).z < 0.0)
+        if self.opening_kind == "rectangle":
+            return opening.rectangle_solid_angle_sample(to_world, hx, hy, ref_p, sample)
+        return opening.disk_sample_direction(to_world, to_local, hx, ref_p, sample)
+
+    def pdf_direction(self, it, ds, active=True):
+        if self.opening_kind == "point":
+            return super().pdf_direction(it, ds, active)
+        hx, hy, hz = self.half
+        outward = dr.dot(ds.d, ds.n) < 0.0
+        if self.opening_kind == "sphere":
+            pdf = dr.select(outward, opening.sphere_pdf_direction(
+                self.position, hx, it.p, ds.p, ds.n), 0.0)
+        elif self.opening_kind == "box":
+            pdf = dr.select(outward, opening.box_pdf_direction(
+                self.to_local, self.half, it.p, ds.p, ds.n), 0.0)
+        else:
+            to_world, to_local = self._flat_frame((self.to_local @ it.p).z < 0.0)
+            if self.opening_kind == "rectangle":
+                pdf = opening.rectangle_solid_angle_pdf(to_world, hx, hy, it.p, ds.p)
+            else:
+                n = mi.Normal3f(dr.normalize(to_world @ mi.Normal3f(0.0, 0.0, 1.0)))
+                pdf = opening.disk_pdf_direction(to_world, to_local, hx, it.p, ds.p, n)
+        return dr.select(active, pdf, 0.0)
+
+    def pdf_position(self, ps, active=True):
+        if self.opening_kind == "point":
+            return super().pdf_position(ps, active)
+        return dr.select(active, dr.rcp(self._area()), 0.0)
+
+    def _area(self):
+        """The emitting area (both faces of a flat opening)."""
+        hx, hy, hz = self.half
+        if self.opening_kind == "sphere":
+            return mi.Float(4.0 * math.pi * hx * hx)
+        if self.opening_kind == "box":
+            return mi.Float(8.0 * (hx * hy + hx * hz + hy * hz))
+        face = 4.0 * hx * hy if self.opening_kind == "rectangle" else math.pi * hx * hx
+        return mi.Float(2.0 * face)
+
+    def _surface_point(self, sample):
+        """A point uniform by area on the opening's emitting surface, its outward normal
+        and the area."""
+        hx, hy, hz = self.half
+        if self.opening_kind == "sphere":
+            n = mi.Normal3f(mi.warp.square_to_uniform_sphere(sample))
+            return mi.Point3f(self.position + hx * n), n, self._area()
+        if self.opening_kind == "box":
+            return opening.box_point(self.to_world, self.half, sample)
+        back = sample.x < 0.5  # the side, then the sample made uniform again
+        sample = mi.Point2f(dr.select(back, 2.0 * sample.x, 2.0 * sample.x - 1.0), sample.y)
+        to_world, _ = self._flat_frame(back)
+        if self.opening_kind == "rectangle":
+            p, n = opening.rectangle_point(to_world, hx, hy, sample)
+        else:
+            p, n = opening.disk_point(to_world, hx, sample)
+        return p, n, self._area()
+
+    def projected_area(self, local_d):
+        """A_proj (m^2) of the opening seen along the unit local direction ``local_d``: a
+        flat opening shows both faces, pi r^2 |cos gamma| (disk) or 4 hx hy |cos gamma|
+        (rectangle)."""
+        hx, hy, hz = self.half
+        if self.opening_kind == "sphere":
+            return opening.sphere_projected_area(hx)
+        if self.opening_kind == "box":
+            return opening.box_projected_area((2.0 * hx, 2.0 * hy, 2.0 * hz), local_d)
+        cos_gamma = dr.abs(local_d.z)
+        if self.opening_kind == "rectangle":
+            return opening.rectangle_projected_area(hx, hy, cos_gamma)
+        return opening.disk_projected_area(hx, cos_gamma)
+
+    def _candela_per_area(self, local_d):
+        """I_v(omega) / A_proj(omega) (cd/m^2, the luminance of the file's candela) in the
+        local direction ``local_d`` (any length; 0 where A_proj is 0)."""
+        unit = dr.normalize(local_d)
+        area = self.projected_area(unit)
+        return dr.select(area > 0.0, self.candela(unit) * dr.rcp(dr.maximum(area, 1e-30)),
+                         0.0)
+
+    def _radiance(self, local_d, wavelengths, active):
+        """L = I_e(omega) / A_proj(omega) in the local direction ``local_d``."""
+        value = self.intensity.eval(self._spectral_si(wavelengths), active)
+        return self._out(dr.select(active, value * (self._candela_per_area(local_d)
+                                                    * self.scale), 0.0))
+
+    def eval(self, si, active=True):
+        if self.opening_kind == "point":
+            return super().eval(si, active)
+        return self._radiance(self.to_local @ si.to_world(si.wi), si.wavelengths, active)
+
+    def sample_wavelengths(self, si, sample, active=True):
+        """Wavelengths and weight of the emission; with an opening, at the point ``si`` of
+        its surface towards the world direction ``si.wi`` (what ``ptracer`` asks when it
+        connects a visible light to the camera): L(omega) / p(lambda), 0 from an opening
+        that is not attached to a shape (invisible)."""
+        wavelengths, weight = super().sample_wavelengths(si, sample, active)
+        if self.opening_kind == "point":
+            return wavelengths, weight
+        factor = self._candela_per_area(self.to_local @ si.wi)
+        if self.get_shape() is None:
+            factor = factor * 0.0
+        return wavelengths, weight * factor
+
+    def bbox(self):
+        if self.opening_kind == "point":
+            return super().bbox()
+        p = mi.ScalarPoint3f(dr.slice(self.position, 0))
+        reach = math.sqrt(sum(h * h for h in self.half))
+        return mi.ScalarBoundingBox3f(p - reach, p + reach)
 
     def to_string(self):
         flux = "" if self.luminous_flux is None else \

@@ -385,3 +385,104 @@ def cylinder_projected_area(radius, height, cos_gamma, caps: int = 2):
     if caps == 1:
         cap = dr.select(cos_gamma < 0.0, cap, 0.0)
     return side + cap
+
+
+def _box_face_areas(half):
+    """The areas of one face normal to local x, y and z of the box of half-extents
+    ``half`` = (hx, hy, hz)."""
+    hx, hy, hz = half
+    return 4.0 * hy * hz, 4.0 * hx * hz, 4.0 * hx * hy
+
+
+def _box_face_point(half, axis_sample, sign, sample):
+    """The local point and normal on the face of the box normal to the chosen axis (0, 1,
+    2 in the Dr.Jit array ``axis_sample``) on the side ``sign`` (+-1), uniform from the 2D
+    ``sample``."""
+    hx, hy, hz = half
+    a = dr.fma(sample.x, 2.0, -1.0)
+    b = dr.fma(sample.y, 2.0, -1.0)
+    on_x, on_y = axis_sample == 0, axis_sample == 1
+    local = mi.Point3f(dr.select(on_x, sign * hx, a * hx),
+                       dr.select(on_x, a * hy, dr.select(on_y, sign * hy, b * hy)),
+                       dr.select(on_x | on_y, b * hz, sign * hz))
+    n = mi.Normal3f(dr.select(on_x, sign, 0.0), dr.select(on_y, sign, 0.0),
+                    dr.select(on_x | on_y, 0.0, sign))
+    return local, n
+
+
+def _pick_axis(areas, u):
+    """An axis 0, 1, 2 drawn in proportion to ``areas`` from the uniform ``u``, and ``u``
+    made uniform again within the chosen axis."""
+    ax, ay, az = areas
+    total = ax + ay + az
+    t = u * total
+    axis = dr.select(t < ax, 0, dr.select(t < ax + ay, 1, 2))
+    start = dr.select(axis == 0, 0.0, dr.select(axis == 1, ax, ax + ay))
+    width = dr.select(axis == 0, ax, dr.select(axis == 1, ay, az))
+    u = dr.clip((t - start) * dr.rcp(dr.maximum(width, 1e-30)), 0.0,
+                dr.one_minus_epsilon(mi.Float))
+    return mi.UInt32(axis), u, total
+
+
+def _box_visible(to_local, half, ref_p):
+    """The weights of the faces of the box that ``ref_p`` sees (at most one per axis, on
+    the side of the point; 0 for the others): each face's area times |u_k|, u the unit
+    local direction from the point to the centre (the face's projected area seen from
+    afar), and the signs of those faces."""
+    r = to_local @ ref_p
+    u = dr.normalize(mi.Vector3f(r))
+    ax, ay, az = _box_face_areas(half)
+    hx, hy, hz = half
+    weights = (dr.select(dr.abs(r.x) > hx, ax * dr.abs(u.x), 0.0),
+               dr.select(dr.abs(r.y) > hy, ay * dr.abs(u.y), 0.0),
+               dr.select(dr.abs(r.z) > hz, az * dr.abs(u.z), 0.0))
+    signs = (dr.sign(r.x), dr.sign(r.y), dr.sign(r.z))
+    return weights, signs
+
+
+def _box_face_pdf(half, weights, axis, ref_p, p, n):
+    """The density in solid angle of a point ``p`` of the face normal to ``axis`` drawn
+    with probability weights[axis] / sum(weights), uniform on it."""
+    areas = _box_face_areas(half)
+    total = weights[0] + weights[1] + weights[2]
+    w = dr.select(axis == 0, weights[0], dr.select(axis == 1, weights[1], weights[2]))
+    a = dr.select(axis == 0, areas[0], dr.select(axis == 1, areas[1], areas[2]))
+    pdf_area_inv = a * total * dr.rcp(dr.maximum(w, 1e-30))  # 1 / density by area
+    pdf = _solid_angle_from_area(ref_p, p, n, pdf_area_inv)
+    return dr.select((total > 0.0) & (w > 0.0), pdf, 0.0)
+
+
+def box_sample_direction(to_world, to_local, half, ref_p, sample):
+    """``(p, n, pdf)``: a point of the box of half-extents ``half`` (local axes of
+    ``to_world``, rigid) on one of the (at most three) faces that ``ref_p`` sees, picked
+    in proportion to its area times the cosine towards the point, uniform on it; its
+    outward normal and the density in solid angle (0 from inside)."""
+    weights, signs = _box_visible(to_local, half, ref_p)
+    axis, u, _ = _pick_axis(weights, sample.x)
+    sign = dr.select(axis == 0, signs[0], dr.select(axis == 1, signs[1], signs[2]))
+    local, n_local = _box_face_point(half, axis, sign, mi.Point2f(u, sample.y))
+    p = mi.Point3f(to_world @ local)
+    n = mi.Normal3f(dr.normalize(to_world @ n_local))
+    return p, n, _box_face_pdf(half, weights, axis, ref_p, p, n)
+
+
+def box_pdf_direction(to_local, half, ref_p, p, n):
+    """The density in solid angle of :func:`box_sample_direction` at the point ``p``
+    (outward normal ``n``) of the box."""
+    weights, _ = _box_visible(to_local, half, ref_p)
+    n_local = to_local @ mi.Vector3f(n)
+    ax, ay = dr.abs(n_local.x), dr.abs(n_local.y)
+    axis = dr.select(ax > 0.5, 0, dr.select(ay > 0.5, 1, 2))
+    return _box_face_pdf(half, weights, mi.UInt32(axis), ref_p, p, n)
+
+
+def box_point(to_world, half, sample):
+    """A point uniform by area over the whole surface of the box (``sample``: 2D), its
+    outward normal, and the box's area."""
+    areas = _box_face_areas(half)
+    axis, u, total = _pick_axis(areas, sample.x)
+    sign = dr.select(u < 0.5, 1.0, -1.0)
+    u = dr.select(u < 0.5, 2.0 * u, 2.0 * u - 1.0)
+    local, n_local = _box_face_point(half, axis, sign, mi.Point2f(u, sample.y))
+    return (mi.Point3f(to_world @ local), mi.Normal3f(dr.normalize(to_world @ n_local)),
+            2.0 * total)

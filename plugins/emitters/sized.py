@@ -205,13 +205,15 @@ def _shape_xml(element: ET.Element, raw_radius: str) -> ET.Element:
     return shape
 
 
-def expand_tree(root: ET.Element, values: dict[str, str] | None = None) -> bool:
+def expand_tree(root: ET.Element, values: dict[str, str] | None = None,
+                folder=None) -> bool:
     """Rewrite, in place, every ``pointlight``/``spotlight`` element of ``root`` that is not
     inside a ``<shape>`` and whose ``source_radius`` is > 0 (``$name`` replaced from
-    ``values``) into a black sphere or disk that carries it. Returns whether it changed
-    anything."""
+    ``values``) into a black sphere or disk that carries it, and every ``ieslight`` with an
+    opening into its shape (:func:`expand_ies_tree`, files looked up in ``folder``).
+    Returns whether it changed anything."""
     values = values or {}
-    changed = False
+    changed = expand_ies_tree(root, values, folder)
     for parent in root.iter():
         if parent.tag == "shape":
             continue
@@ -229,10 +231,12 @@ def expand_tree(root: ET.Element, values: dict[str, str] | None = None) -> bool:
 
 def expand_dict(scene: dict) -> dict:
     """The ``mi.load_dict`` scene dictionary with each top-level ``pointlight`` or
-    ``spotlight`` of ``source_radius`` > 0 carried by its black sphere or disk (a new
-    dictionary; the others entries are kept as they are)."""
+    ``spotlight`` of ``source_radius`` > 0 carried by its black sphere or disk, and each
+    ``ieslight`` with an opening by its shape (:func:`expand_ies_dict`; a new dictionary;
+    the others entries are kept as they are)."""
     import mitsuba as mi
 
+    scene = expand_ies_dict(scene)
     out = {}
     for key, value in scene.items():
         radius = value.get("source_radius", 0.0) if isinstance(value, dict) else 0.0
@@ -253,4 +257,189 @@ def expand_dict(scene: dict) -> dict:
             shape["to_world"] = mi.ScalarTransform4f(to_world) @ mi.ScalarTransform4f().scale(
                 [float(radius), float(radius), 1.0])
         out[key] = shape
+    return out
+
+
+# -- the luminous openings of ieslight -----------------------------------------------------
+
+#: ``ieslight``'s ``opening`` -> the size parameters it takes (m, each > 0). ``file``: the
+#: shape and size that the photometric file gives; ``point``: the delta light.
+IES_OPENINGS = {
+    "file": (),
+    "point": (),
+    "rectangle": ("width", "length"),
+    "disk": ("diameter",),
+    "sphere": ("diameter",),
+    "box": ("width", "length", "height"),
+}
+#: Every size parameter of ``ieslight``'s openings.
+IES_SIZES = ("width", "length", "height", "diameter")
+#: The openings of ``Photometry.opening`` that ``ieslight`` renders -> its ``opening``.
+IES_FILE_SHAPES = {"point": "point", "rectangle": "rectangle", "disk": "disk",
+                   "sphere": "sphere", "box": "box"}
+#: ``ieslight`` opening -> the Mitsuba shape that carries it.
+IES_SHAPES = {"rectangle": "rectangle", "disk": "disk", "sphere": "sphere", "box": "cube"}
+
+
+def resolve_opening(values: dict, file_opening, plugin: str = "ieslight"):
+    """The kind of an ``ieslight``'s opening ("point", "rectangle", "disk", "sphere",
+    "box") and its half-extents (hx, hy, hz) along local x (C0-C180, the length), y
+    (C90-C270, the width) and z (the height; 0 for a flat opening; a radius for disks and
+    spheres), from ``values`` (``opening`` and the size parameters; None when absent) and
+    the file's ``Opening`` (``file_opening``: a callable returning it, or None).
+
+    Raises ``ParameterError`` naming the parameter: an unknown opening, a size that does
+    not apply to it, a missing, negative, NaN or zero size."""
+    name = values.get("opening")
+    name = "file" if name is None else name
+    if name not in IES_OPENINGS:
+        raise ParameterError(f"{plugin}: parameter 'opening' must be one of "
+                             f"{', '.join(IES_OPENINGS)} (got {name!r})")
+    needed = IES_OPENINGS[name]
+    for size in IES_SIZES:
+        if values.get(size) is not None and size not in needed:
+            takes = ", ".join(needed) or "no size"
+            raise ParameterError(f"{plugin}: parameter '{size}' does not apply to opening "
+                                 f"'{name}' (it takes {takes})")
+    sizes = {}
+    for size in needed:
+        value = values.get(size)
+        if value is None:
+            raise ParameterError(f"{plugin}: parameter '{size}' (m) is required with opening "
+                                 f"'{name}'")
+        if not (math.isfinite(value) and value > 0.0):
+            raise ParameterError(f"{plugin}: parameter '{size}' must be a finite size > 0 m "
+                                 f"(got {value:g}: a degenerate opening)")
+        sizes[size] = float(value)
+    if name == "point":
+        return "point", (0.0, 0.0, 0.0)
+    if name == "file":
+        opening = None if file_opening is None else file_opening()
+        if opening is None or opening.shape == "point":
+            return "point", (0.0, 0.0, 0.0)
+        if opening.shape not in IES_FILE_SHAPES:
+            raise ParameterError(
+                f"{plugin}: parameter 'opening': the file's luminous opening is a "
+                f"{opening.shape.replace('_', ' ')}, which the light does not render; give "
+                f"opening 'point' or one of {', '.join(IES_SHAPES)} with its sizes")
+        name = IES_FILE_SHAPES[opening.shape]
+        sizes = {"width": opening.width, "length": opening.length,
+                 "height": opening.height, "diameter": opening.width}
+        if any(not sizes[s] > 0.0 for s in IES_OPENINGS[name]):
+            raise ParameterError(f"{plugin}: parameter 'opening': the file's {name} has a "
+                                 "zero size (a degenerate opening); give opening 'point'")
+    if name == "rectangle":
+        return name, (0.5 * sizes["length"], 0.5 * sizes["width"], 0.0)
+    if name == "box":
+        return name, (0.5 * sizes["length"], 0.5 * sizes["width"], 0.5 * sizes["height"])
+    radius = 0.5 * sizes["diameter"]
+    return name, (radius, radius, radius if name == "sphere" else 0.0)
+
+
+def _ies_values(element: ET.Element, values: dict[str, str]):
+    """The ``filename``, ``opening`` and sizes of an ``ieslight`` element (``$name``
+    resolved), or None when one does not parse (the plugin then reports it)."""
+    found = {}
+    for child in element:
+        name = child.get("name")
+        if name in ("filename", "opening", *IES_SIZES):
+            raw = _PARAMETER.sub(lambda m: values.get(m.group(1), m.group(0)),
+                                 child.get("value", ""))
+            if name in IES_SIZES:
+                try:
+                    raw = float(raw)
+                except ValueError:
+                    return None
+            found[name] = raw
+    return found
+
+
+def _ies_opening(found: dict, folder=None):
+    """The resolved opening of an ``ieslight``'s parameters, or None when it is a point
+    or cannot be resolved (the plugin reports the error at load)."""
+    from pathlib import Path
+
+    from spectrace.errors import SpectraceError
+
+    def file_opening():
+        from spectrace.photometry import read_photometry
+
+        path = Path(found.get("filename", ""))
+        if folder is not None and not path.is_absolute() and (Path(folder) / path).is_file():
+            path = Path(folder) / path
+        return read_photometry(path).opening
+
+    if found is None or (found.get("opening", "file") == "file" and "filename" not in found):
+        return None
+    try:
+        kind, half = resolve_opening(found, file_opening)
+    except (SpectraceError, OSError, ValueError):
+        return None
+    return None if kind == "point" else (kind, half)
+
+
+def _ies_scale(kind: str, half) -> tuple[float, float, float]:
+    """The scale of the Mitsuba shape (rectangle, disk, sphere: unit; cube: [-1, 1]^3)."""
+    hx, hy, hz = half
+    return (hx, hy, 1.0) if kind in ("rectangle", "disk") else (hx, hy, hz)
+
+
+def _ies_shape_xml(element: ET.Element, kind: str, half) -> ET.Element:
+    shape = ET.Element("shape", type=IES_SHAPES[kind])
+    transform = ET.SubElement(shape, "transform", name="to_world")
+    x, y, z = (repr(float(v)) for v in _ies_scale(kind, half))
+    ET.SubElement(transform, "scale", x=x, y=y, z=z)
+    to_world = next((c for c in element if c.tag == "transform"
+                     and c.get("name") == "to_world"), None)
+    if to_world is not None:
+        transform.extend(copy.deepcopy(list(to_world)))
+    shape.append(_black_bsdf_xml())
+    shape.append(element)
+    return shape
+
+
+def expand_ies_tree(root: ET.Element, values: dict[str, str] | None = None,
+                    folder=None) -> bool:
+    """Rewrite, in place, every ``ieslight`` of ``root`` outside a ``<shape>`` whose
+    opening is not a point (its ``opening``, or the file's: a relative ``filename`` is
+    looked up in ``folder``) into the black rectangle, disk, sphere or cube that carries
+    it. Returns whether it changed anything."""
+    values = values or {}
+    changed = False
+    for parent in root.iter():
+        if parent.tag == "shape":
+            continue
+        for index, element in enumerate(list(parent)):
+            if element.tag != "emitter" or element.get("type") != "ieslight":
+                continue
+            resolved = _ies_opening(_ies_values(element, values), folder)
+            if resolved is None:
+                continue
+            parent.remove(element)
+            parent.insert(index, _ies_shape_xml(element, *resolved))
+            changed = True
+    return changed
+
+
+def expand_ies_dict(scene: dict) -> dict:
+    """The ``mi.load_dict`` scene dictionary with each top-level ``ieslight`` whose opening
+    is not a point carried by its black shape (a new dictionary)."""
+    import mitsuba as mi
+
+    out = {}
+    for key, value in scene.items():
+        resolved = None
+        if isinstance(value, dict) and value.get("type") == "ieslight":
+            found = {k: value[k] for k in ("filename", "opening", *IES_SIZES) if k in value}
+            if all(isinstance(found.get(k, 0.0), (int, float)) for k in IES_SIZES):
+                resolved = _ies_opening(found)
+        if resolved is None:
+            out[key] = value
+            continue
+        kind, half = resolved
+        to_world = mi.ScalarTransform4f(value.get("to_world", mi.ScalarTransform4f()))
+        out[key] = {"type": IES_SHAPES[kind],
+                    "to_world": to_world @ mi.ScalarTransform4f().scale(
+                        list(_ies_scale(kind, half))),
+                    "bsdf": {"type": "diffuse", "reflectance": 0.0}, "emitter": value}
     return out

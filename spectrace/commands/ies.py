@@ -7,7 +7,10 @@ direction (Type C gamma and C), the beam and field angles in the C0-C180 and C90
 planes (full angles to 50% and 10% of each plane's own peak; "not defined" where the
 intensity never falls that far or the arc would exceed 180 degrees), and the luminous
 opening (its shape and size, and the photometric distance, 5 times its largest
-dimension, from which the luminaire may be taken as a point). The numbers come from
+dimension, from which the luminaire may be taken as a point, and the measured
+near-field error there: the relative difference between the illuminance of the opening
+emitting I / A_proj and the point law's on the axis, ``spectrace.photometry.near_field``).
+The numbers come from
 :class:`spectrace.photometry.Photometry`. ``--plot OUT.png`` draws the polar candela
 diagram of the C0-C180 and C90-C270 planes as datasheets do (nadir at the bottom, C0 and
 C90 to the right, C180 and C270 to the left; written atomically). A missing or malformed
@@ -85,6 +88,24 @@ def _opening(ph) -> str:
             f"(5 x {o.largest_dimension:.3g} m)")
 
 
+def _near_field(ph) -> str | None:
+    """The measured error of the point law at the photometric distance on the axis, or
+    None when there is no opening (or no quadrature of its shape)."""
+    from spectrace.photometry.near_field import SHAPES, axial_near_field_error
+
+    try:
+        o = ph.opening
+    except FileFormatError:
+        return None
+    if o.shape not in SHAPES:
+        return None
+    error = axial_near_field_error(ph)
+    if math.isnan(error):
+        return "no intensity on the axis (gamma 0) to compare"
+    return (f"{100 * error:+.2f}% (the opening's illuminance against the point law's, at "
+            f"{o.photometric_distance:.3g} m on the axis, gamma 0)")
+
+
 def describe(ph) -> list[str]:
     """The report's lines."""
     rows = [("file", str(ph.path))]
@@ -109,6 +130,9 @@ def describe(ph) -> list[str]:
     rows.append(("beam", f"{_planes(ph.beam_angles)} (50% of each plane's peak)"))
     rows.append(("field", f"{_planes(ph.field_angles)} (10%)"))
     rows.append(("opening", _opening(ph)))
+    near = _near_field(ph)
+    if near:
+        rows.append(("near field", near))
     return [f"{label:<11}{text}" for label, text in rows]
 
 

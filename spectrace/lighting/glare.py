@@ -142,7 +142,11 @@ def ugr(Y, directions, solid_angle, forward, *, threshold: float | None = None,
 
 
 def has_visible_lights(scene) -> bool:
-    """Whether some light of ``scene`` can be seen (is not a delta light)."""
+    """Whether some light of ``scene`` can be seen: not a delta light, and on a shape
+    (an area emitter, spectrace's sized lights and ``ieslight`` openings once the scene
+    loader has put them on their shapes) or infinitely far (an environment)."""
     import mitsuba as mi
 
-    return any(not mi.has_flag(e.flags(), mi.EmitterFlags.Delta) for e in scene.emitters())
+    return any(not mi.has_flag(e.flags(), mi.EmitterFlags.Delta)
+               and (e.get_shape() is not None or mi.has_flag(e.flags(), mi.EmitterFlags.Infinite))
+               for e in scene.emitters())

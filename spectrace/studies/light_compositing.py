@@ -86,10 +86,12 @@ def _spectrum_element(source: str) -> ET.Element:
 
 def load_room(res: int, spp: int, max_depth: int = 3, lights: Sequence[str] | None = None,
               lamp: str | None = None):
-    """The room of :func:`room_tree` loaded at ``res`` x ``res`` pixels and ``spp``."""
+    """The room of :func:`room_tree` loaded at ``res`` x ``res`` pixels and ``spp``, its
+    luminaires points (``opening`` point: the light groups' study of relighting is about
+    superposition, and the points keep the path tracer's noise at the test sizes)."""
     from spectrace.scene import load_scene
 
-    return load_scene(scene_path(ROOM), {"res": res, "spp": spp},
+    return load_scene(scene_path(ROOM), {"res": res, "spp": spp, "opening": "point"},
                       root=room_tree(max_depth, lights, lamp))
 
 

@@ -184,14 +184,16 @@ def work_plane(variant: str, res: int, spp: int, max_depth: int = 1,
     """Illuminance on the work plane y = WORK_PLANE_HEIGHT over the whole room, seen by an
     orthographic camera looking straight down from CAMERA_HEIGHT (``res`` pixels along x,
     4/5 of it along z). ``spp`` 1: one sample at each pixel centre (the value there); more:
-    independent samples, box filter (the mean over the pixel). Scene at exposure 1."""
+    independent samples, box filter (the mean over the pixel). Scene at exposure 1, its
+    luminaires points (``opening`` point: the law of the hand calculation)."""
     import mitsuba as mi
 
     import spectrace
     from spectrace.lux import render_lux
 
     spectrace.set_variant(variant)
-    scene = load_scene(ROOM, res=8, spp=4, exposure=1.0)  # its own sensor is not used
+    # its own sensor is not used; point openings: the hand calculation is the point law
+    scene = load_scene(ROOM, res=8, spp=4, exposure=1.0, opening="point")
     width = int(res)
     height = int(round(width * (ROOM_Z[1] - ROOM_Z[0]) / (ROOM_X[1] - ROOM_X[0])))
     half = (ROOM_X[1] - ROOM_X[0]) / 2

@@ -85,6 +85,22 @@ def test_opening_and_photometric_distance(capsys, tmp_path):
     assert "is no shape of LM-63-2002" in out
 
 
+def test_near_field_error_at_the_photometric_distance(capsys, tmp_path):
+    """A Lambertian (cos gamma) disk of radius r: the near-field line gives the error of
+    the point law at 5 x 2r on the axis, h^2 / (r^2 + h^2) - 1 = -1/101 = -0.99%
+    (Howell B-13); a point opening has no such line."""
+    disk = G.write_ies_function(tmp_path / "disk.ies", G.cos_power(100.0, 1),
+                                opening=(-0.2, -0.2, 0.0),
+                                vertical_angles=np.arange(0.0, 180.01, 0.5))
+    rc, out, err = run(capsys, str(disk))
+    assert rc == 0, err
+    line = next(line for line in out.splitlines() if line.startswith("near field"))
+    assert "-0.99%" in line and "1 m" in line
+    point = G.write_ies_function(tmp_path / "point.ies", G.cos_power(100.0, 1))
+    rc, out, err = run(capsys, str(point))
+    assert "near field" not in out
+
+
 def test_plot_is_written(capsys, downlight, tmp_path):
     """--plot writes a PNG (and nothing else beside it)."""
     out_png = tmp_path / "plots" / "polar.png"

@@ -189,7 +189,8 @@ def test_ieslight_is_exact_at_one_sample(tmp_path):
     """A real-looking luminaire file (scenes/luminaires/wallwasher.ies, asymmetric), 2 m
     above the floor, at one sample per pixel: the spectral variant's lux equal the RGB
     variant's (where every sample is exact) to RTOL_DIRECT, and both the file's
-    I(gamma, C) cos / r^2."""
+    I(gamma, C) cos / r^2. The point law: ``opening`` 'point' (the file's 0.1 x 0.3 m
+    opening would be sampled, not exact)."""
     from spectrace.photometry import read_photometry
     from spectrace.scenes import FOLDER
 
@@ -201,6 +202,7 @@ def test_ieslight_is_exact_at_one_sample(tmp_path):
         spectrace.set_variant(variant)
         T = checks.transform()
         light = {"light": {"type": "ieslight", "filename": filename, "spectrum": TABULATED,
+                           "opening": "point",
                            "to_world": T.look_at([0, 2, 0], [0, 0, 0], [0, 0, 1])}}
         lux[variant] = lux_of(render(floor_scene(light)))
     np.testing.assert_allclose(lux["llvm_ad_spectral"], lux["llvm_ad_rgb"], rtol=RTOL_DIRECT,
