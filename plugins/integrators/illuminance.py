@@ -144,7 +144,7 @@ PLANE_MIN_COSINE = 1e-6
 #: F of a delta light (several distances: a windowed falloff may end before one metre).
 REFERENCE_RAYS = 16
 REFERENCE_DISTANCES = (1e-3, 1e-2, 1e-1, 1.0)
-#: The scene's up axis (DESIGN.md: +Y), the axis of the cylinders of E_z and E_sc.
+#: The scene's up axis (+Y, as Mitsuba's scenes), the axis of the cylinders of E_z and E_sc.
 UP = (0.0, 1.0, 0.0)
 def _planar(n, d):
     """cos between the surface normal n and the direction d towards the light."""

@@ -82,7 +82,7 @@ Environment (reflection mapping and irradiance environment map)
 scale and spectra apply), front side only, with no ray traced along r (the map is taken
 as infinitely far and unoccluded, as reflection mapping does). ``rho_s`` is the BSDF's
 ``specular_reflectance`` attribute: that of ``phong`` and ``blinnphong`` (whatever their
-exponent or ``normalized``: the lecture's term treats the lobe as a mirror), and of any
+exponent or ``normalized``: reflection mapping treats the lobe as a mirror), and of any
 Mitsuba BSDF that has one as an attribute (``conductor``: 1 unless given, its Fresnel
 factor not applied); a BSDF without it (``diffuse``, ``plastic``, ``dielectric``,
 ``roughconductor`` without one, ...) has rho_s = 0 and reflects no environment.
@@ -103,7 +103,7 @@ projection do not reach E_SH (the reflection term sees them).
 ``ambient = "environment"`` uses the ``environment`` reference, or else the scene's
 environment emitter; a scene without one is refused (a ParameterError naming
 ``ambient``). The environment used by either term is left out of the sum over lights
-(its light comes in through these two terms only, noise-free, as in the lecture's
+(its light comes in through these two terms only, noise-free, as in the classic
 environment-mapping model); without ``environment`` and ``ambient = "environment"`` an
 environment is sampled like any other light (below).
 
