@@ -345,3 +345,33 @@ def test_negative_luminous_value_fails_at_update(variant_rgb):
     params["luminous_flux"] = -1.0
     with pytest.raises(ValueError, match="spotlight: parameter 'luminous_flux' must be >= 0"):
         params.update()
+
+
+PHOTOPIC_SCRIPT = """
+import sys
+import spectrace
+spectrace.set_variant("llvm_ad_spectral")
+from spectrace.plugins.emitters import luminous
+w, V = luminous.photopic_efficiency()
+print(int(w[V.argmax()]), repr(float(V.max())), "colour" in sys.modules)
+"""
+
+
+def test_photopic_table_is_kept_in_the_user_cache(tmp_path):
+    """V(lambda) comes from colour-science the first time and from the user's cache folder
+    after: the same table (peak 1 at 555 nm), and the second process never imports
+    colour-science (its import costs more than a small render)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path)}
+    runs = [subprocess.run([sys.executable, "-c", PHOTOPIC_SCRIPT], env=env, text=True,
+                           capture_output=True, timeout=300) for _ in range(2)]
+    for run in runs:
+        assert run.returncode == 0, run.stderr[-2000:]
+    first, second = (run.stdout.split() for run in runs)
+    assert first[:2] == second[:2] and first[0] == "555"
+    assert float(first[1]) == pytest.approx(1.0, abs=1e-12)
+    assert first[2] == "True" and second[2] == "False"
+    assert len(list((tmp_path / "spectrace").glob("photopic-*.npy"))) == 1
