@@ -44,3 +44,14 @@ def test_a_wrong_setting_fails(variant_spectral, name):
 def test_unknown_case_is_named(variant_rgb):
     with pytest.raises(ValueError, match="unknown case 'nope'"):
         validation.run(["nope"])
+
+
+@pytest.mark.parametrize("scene", sorted(p.name for p in C.folder().glob("*.xml")))
+def test_every_case_scene_renders(tmp_path, scene):
+    """Each case's scene is one a user can render and look at with spectrace render."""
+    from spectrace.cli import main
+
+    out = tmp_path / "case.exr"
+    assert main(["render", str(C.folder() / scene), "-D", "res=8", "-D", "spp=2", "-q",
+                 "-m", "llvm_ad_rgb", "-o", str(out)]) == 0
+    assert out.is_file() and out.with_suffix(".png").is_file()
