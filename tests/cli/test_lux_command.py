@@ -213,3 +213,15 @@ def test_ctrl_c_while_loading_is_an_interrupt(tmp_path, capsys, how):
     assert capsys.readouterr().err.strip().splitlines()[-1] == "interrupted"
     assert not (tmp_path / "map.exr").exists()
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_measurements_are_never_denoised(tmp_path, capsys):
+    """Denoising is for pictures: lux takes no --denoise (one line, exit 2, nothing
+    written), so a measurement is never a denoised image."""
+    scene = write_scene(tmp_path)
+    out = tmp_path / "map.exr"
+    with pytest.raises(SystemExit) as info:  # argparse's one line
+        main(["lux", str(scene), "-o", str(out), "--denoise", "-q"])
+    assert info.value.code == 2
+    assert_one_line_error(capsys, "--denoise")
+    assert not out.exists()
