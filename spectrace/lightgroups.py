@@ -201,7 +201,7 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0, band_waveleng
         raise ParameterError(f"light groups: the film {film.class_name()} has a sensor "
                              "response (a spectral film), which cannot hold layers; use "
                              "hdrfilm (spectral layers: band_wavelengths)")
-    if kind in ("LightGroups", "LocalLightGroups"):  # already one
+    if kind in ("LightGroups", "LocalLightGroups", "IlluminanceLightGroups"):  # already one
         emitter_group_indices(scene, integrator.groups)
         return integrator
     if kind == "Local":  # its light loop attributes each light's term (and 'ambient')

@@ -490,3 +490,13 @@ def test_illuminance_layers_refuse_spectral_bands(variant_spectral):
                                                     lamps=ILLUMINANCE_LAMPS["key"]))
     with pytest.raises(ParameterError, match="illuminance"):
         lightgroups.integrator_for(scene, True, band_wavelengths=[400.0, 500.0, 600.0])
+
+
+def test_illuminance_layers_integrator_is_kept(variant_rgb):
+    """`spectrace render --light-groups` builds the per-light lux integrator before the
+    render: giving it back to integrator_for keeps it (not refused, not wrapped twice)."""
+    scene = mi.load_string(ILLUMINANCE_SCENE.format(integrator="",
+                                                    lamps=ILLUMINANCE_LAMPS["key"]))
+    made = lightgroups.integrator_for(scene, True)
+    assert type(made).__name__ == "IlluminanceLightGroups"
+    assert lightgroups.integrator_for(scene, True, made) is made
