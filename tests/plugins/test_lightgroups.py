@@ -409,17 +409,8 @@ def test_local_layers_are_its_lights_and_ambient(variant_rgb, fog):
                                    * np.exp(-0.2 * 3), rtol=LOCAL_FOG_RTOL)
 
 
-ILLUMINANCE_SCENE = """<scene version="3.0.0">
-  <integrator type="illuminance">{integrator}</integrator>
-  <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 3"
-      target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>
-    <rfilter type="box"/></film></sensor>
-  <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
-  </shape>
-  {lamps}
-</scene>
-"""
+ILLUMINANCE_SCENE = LOCAL_SCENE.replace('<integrator type="local">{ambient}{fog}',
+                                        '<integrator type="illuminance">{integrator}')
 ILLUMINANCE_LAMPS = {
     "key": '<emitter type="pointlight" id="key"><point name="position" x="0.5" y="0" z="1"/>'
            '<float name="luminous_intensity" value="100"/></emitter>',
