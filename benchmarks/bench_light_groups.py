@@ -22,11 +22,22 @@ each the best of REPEATS. Then 8 spectral layers of 16 bands (about 0.5 GB of fl
 reading the spectral EXR, and ``relight_spectral`` dimming and with a new lamp spectrum
 (aim: within 1.5x of the read).
 
+Memory: each of the three renders in a fresh subprocess (box filter), once to compile
+its kernels, then (Dr.Jit's allocation cache flushed) again; the peak resident set of that
+second render (VmHWM, reset just before it) less the resident set before it is the
+render's own memory. The aim for 8 groups is at most
+1.2x that of the render without groups (``path``; 1 group beside it) plus the layers
+themselves: RES^2 x 8 x 3 float32 channels, once (what the image ``mi.render`` returns
+holds; the film's accumulation buffer is the film's, kept between renders).
+
 Run: .venv/bin/python benchmarks/bench_light_groups.py [--spp N] [--res N] [--repeats N]
 """
 
 from __future__ import annotations
 
+import json
+import resource
+import subprocess
 import sys
 import tempfile
 import time
@@ -118,6 +129,87 @@ def render_rows(args):
     return rows
 
 
+def _resident_bytes() -> int:
+    """The process's resident set now (Linux: /proc/self/statm)."""
+    import os
+
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def _reset_peak() -> tuple[int, bool]:
+    """(the resident set now, whether the peak was reset to it): Linux resets the
+    process's peak resident set (VmHWM) when 5 is written to /proc/self/clear_refs."""
+    before = _resident_bytes()
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+        return before, True
+    except OSError:
+        return before, False
+
+
+def _peak_bytes(reset: bool) -> int:
+    """The peak resident set since :func:`_reset_peak` (VmHWM), or of the whole process
+    (``ru_maxrss``) where it could not be reset."""
+    if reset:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # KiB on Linux
+
+
+def memory_child(variant: str, kind: str, res: int, spp: int) -> None:
+    """In a subprocess: one render of ``kind`` (a key of :func:`render_rows`'s
+    integrators); prints {"before": bytes, "peak": bytes} as JSON."""
+    import drjit as dr
+
+    spectrace.set_variant(variant)
+    import mitsuba as mi
+
+    from spectrace import lightgroups
+
+    scene = mi.load_dict(scene_dict(res, spp, "box"))
+    names = lightgroups.emitter_names(scene)
+    integrator = {"path": lambda: scene.integrator(),
+                  "lightgroups, 1 group": lambda: lightgroups.integrator_for(scene,
+                                                                             {"all": names}),
+                  "lightgroups, 8 groups": lambda: lightgroups.integrator_for(scene, True),
+                  }[kind]()
+    dr.eval(mi.render(scene, spp=spp, seed=0, integrator=integrator))  # compiles
+    dr.sync_thread()
+    dr.flush_malloc_cache()  # its arrays go back to the system, to be allocated anew
+    before, reset = _reset_peak()
+    image = mi.render(scene, spp=spp, seed=1, integrator=integrator)
+    dr.eval(image)
+    dr.sync_thread()
+    print(json.dumps({"before": before, "peak": _peak_bytes(reset)}))
+
+
+def memory_rows(args):
+    """(variant, integrator, peak MB, render's own MB, own / path, allowed MB, aim met)
+    per render, each measured in its own subprocess (see the module docstring)."""
+    kinds = ("path", "lightgroups, 1 group", "lightgroups, 8 groups")
+    layers_mb = args.res**2 * GROUPS * 3 * 4 / 1e6
+    rows = []
+    for variant in VARIANTS:
+        own, peak = {}, {}
+        for kind in kinds:
+            out = subprocess.run([sys.executable, __file__, "--memory-child", variant, kind,
+                                  "--res", str(args.res), "--spp", str(args.spp)],
+                                 capture_output=True, text=True, check=True).stdout
+            m = json.loads(out.strip().splitlines()[-1])
+            peak[kind] = m["peak"] / 1e6
+            own[kind] = (m["peak"] - m["before"]) / 1e6
+        allowed = 1.2 * own["path"] + layers_mb
+        for kind in kinds:
+            rows.append((variant, kind, peak[kind], own[kind], own[kind] / own["path"],
+                         layers_mb, allowed,
+                         "-" if kind == "path" else ("yes" if own[kind] <= allowed else "no")))
+    return rows
+
+
 def relight_rows(repeats: int):
     import numpy as np
 
@@ -186,7 +278,24 @@ def spectral_relight_rows(repeats: int):
 
 
 def main(argv=None) -> int:
-    args = render_parser(__doc__, repeats=3).parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["--memory-child"]:
+        memory_child(argv[1], argv[2], *render_parser(__doc__).parse_args(argv[3:]).__dict__
+                     .values())
+        return 0
+    parser = render_parser(__doc__, repeats=3)
+    parser.add_argument("--memory-only", action="store_true",
+                        help="only the memory table")
+    args = parser.parse_args(argv)
+    print(f"memory {args.res}x{args.res}, {args.spp} spp, box filter, one render per "
+          "subprocess (own = peak RSS of a warm render - RSS before it)")
+    print_table([("variant", ">16", ""), ("integrator", ">21", ""), ("peak MB", ">8", ".1f"),
+                 ("own MB", ">7", ".1f"), ("own/path", ">8", ".2f"),
+                 ("layers MB", ">9", ".1f"), ("aim MB", ">7", ".1f"), ("aim met", ">7", "")],
+                memory_rows(args), sep="  ")
+    print()
+    if args.memory_only:
+        return 0
     rows = render_rows(args)
     print(f"render {args.res}x{args.res}, {args.spp} spp, max_depth 6, {GROUPS} emitters, "
           f"best of {args.repeats} warm renders")

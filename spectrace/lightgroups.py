@@ -23,8 +23,11 @@ integrator is ``path`` keeps its ``max_depth``, ``rr_depth`` and ``hide_emitters
 seen directly: the same image in expectation, with its own noise); a scene already using
 ``lightgroups`` keeps it. A ``local`` scene keeps its integrator, whose loop over the lights
 adds each light's term to its group (``LocalLightGroups`` in the ``lightgroups`` plugin's
-module), with one more layer, ``ambient``: its ambient term and fog colour. Other
-integrators (``illuminance``: per-light lux is not done, ``volpath``, ...),
+module), with one more layer, ``ambient``: its ambient term and fog colour. An
+``illuminance`` scene keeps its integrator too, whose loop over the lights adds each
+light's lux to its group (``IlluminanceLightGroups``): per-light lux layers, R = G = B =
+lux, with one more layer, ``indirect``, the interreflected light. Other integrators
+(``volpath``, ...),
 films with a sensor response (``specfilm``) and polarized variants are refused for now.
 
 Spectral layers
@@ -198,7 +201,7 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0, band_waveleng
         raise ParameterError(f"light groups: the film {film.class_name()} has a sensor "
                              "response (a spectral film), which cannot hold layers; use "
                              "hdrfilm (spectral layers: band_wavelengths)")
-    if kind in ("LightGroups", "LocalLightGroups"):  # already one
+    if kind in ("LightGroups", "LocalLightGroups", "IlluminanceLightGroups"):  # already one
         emitter_group_indices(scene, integrator.groups)
         return integrator
     if kind == "Local":  # its light loop attributes each light's term (and 'ambient')
@@ -207,10 +210,18 @@ def integrator_for(scene, light_groups, integrator=None, sensor=0, band_waveleng
 
         return LocalLightGroups(integrator, resolve_groups(scene, light_groups),
                                 band_wavelengths)
+    if kind == "Illuminance":  # its light loop attributes each light's lux (and 'indirect')
+        registry.require({"lightgroups"})
+        from spectrace.plugins.integrators.lightgroups import IlluminanceLightGroups
+
+        if band_wavelengths is not None:
+            raise ParameterError("light groups: the illuminance integrator's layers are lux, "
+                                 "not spectral (band_wavelengths)")
+        return IlluminanceLightGroups(integrator, resolve_groups(scene, light_groups))
     if kind not in REPLACED_INTEGRATORS:
         raise ParameterError(f"light groups need the scene's integrator to be 'path', "
-                             f"'direct' or 'local' (it is {kind}); per-light layers of other "
-                             "integrators are not supported yet")
+                             f"'direct', 'local' or 'illuminance' (it is {kind}); per-light "
+                             "layers of other integrators are not supported yet")
     depths = {k: int(v) for k, v in _DEPTH.findall(str(integrator))}
     max_depth = REPLACED_INTEGRATORS[kind] or depths.get("max_depth", -1)
     registry.require({"lightgroups"})

@@ -82,6 +82,16 @@ measurement themselves, unaffected by the sensor's wavelengths, response or whit
 (they need random samples: a ``stratified`` sampler without jitter would draw the same
 wavelengths at every pixel).
 
+Light groups (``spectrace render SCENE --light-groups``: per-light lux): with a table
+``light_group_of`` (emitter index -> group index) and ``light_group_count`` set on the
+integrator, the loop over the lights also adds each light's lux to its group's sum, the
+MIS companion's emission goes to the group of the emitter it hit
+(``light_group_by_pointer``: the table by the emitter's registry index), and the
+interreflected light (``max_depth`` > 1) to one more group, ``indirect`` (after one bounce
+the light's emitter is not tracked); they are left in ``light_lux`` (one Float per group,
+``indirect`` last) and sum to the lux. ``IlluminanceLightGroups`` in the ``lightgroups``
+plugin's module writes them as layers.
+
 Other kinds of illuminance at a point (for ``spectrace lux --points``, through
 :meth:`Illuminance.measure`): a plane of normal n (the above), ``cylindrical`` E_z, the
 mean illuminance on the curved surface of a small vertical cylinder, and
@@ -357,8 +367,11 @@ class Illuminance(mi.SamplingIntegrator):
             return lux
         emitters = scene.emitters_dr()
         factors = self._factors(scene) if mi.is_spectral else None
+        group_of = getattr(self, "light_group_of", None)
+        Eg = [] if group_of is None else [
+            dr.zeros(mi.Float, dr.width(active)) for _ in range(self.light_group_count)]
 
-        def body(j, lux, sampler):
+        def body(j, lux, Eg, sampler):
             emitter = dr.gather(mi.EmitterPtr, emitters, j, active)
             it_j = mi.SurfaceInteraction3f(it)
             if factors is not None:
@@ -381,16 +394,21 @@ class Illuminance(mi.SamplingIntegrator):
                 v = dr.select(exact, F * value[0], self._lux(value))
             else:
                 v = self._lux(value)
-            lux += dr.select(lit, v * (k * w), 0.0)
-            return j + 1, lux, sampler
+            term = dr.select(lit, v * (k * w), 0.0)
+            lux += term
+            if Eg:  # light groups: the light's term to its group too
+                g = dr.gather(mi.UInt32, group_of, j, active)
+                Eg = [x + dr.select(g == i, term, 0.0) for i, x in enumerate(Eg)]
+            return j + 1, lux, Eg, sampler
 
-        _, lux, _ = dr.while_loop(
-            state=(dr.zeros(mi.UInt32, dr.width(active)), lux, sampler),
-            cond=lambda j, lux, sampler: j < count,
+        _, lux, Eg, _ = dr.while_loop(
+            state=(dr.zeros(mi.UInt32, dr.width(active)), lux, Eg, sampler),
+            cond=lambda j, lux, Eg, sampler: j < count,
             body=body,
-            labels=("j", "lux", "sampler"),
+            labels=("j", "lux", "Eg", "sampler"),
             label="illuminance: lights",
         )
+        self.light_lux = Eg
         return lux
 
     def measure(self, scene, sampler, it, n, active, kind="planar"):
@@ -404,7 +422,10 @@ class Illuminance(mi.SamplingIntegrator):
         emitters = scene.emitters()
         mis = planar and self.shadows and not all(
             mi.has_flag(e.flags(), mi.EmitterFlags.Delta) for e in emitters)
+        self.light_lux = []
         lux = self._direct_lux(scene, sampler, it, n, kernel, mis, active)
+        if getattr(self, "light_group_of", None) is not None:
+            self.light_lux = [*self.light_lux, dr.zeros(mi.Float, dr.width(active))]
         if not planar or not (mis or self.path is not None):
             return lux
         # one cosine-weighted direction: emission by MIS, and the interreflected light
@@ -422,10 +443,21 @@ class Illuminance(mi.SamplingIntegrator):
             Le = emitter.eval(si, hit)
             # Le cos / pdf * pdf / (pdf + emitter_pdf), with cos / pdf = pi
             w = pdf / (pdf + emitter_pdf)
-            E += dr.select(hit & (pdf > 0.0) & dr.isfinite(w), Le * (dr.pi * w), 0.0)
+            Ee = dr.select(hit & (pdf > 0.0) & dr.isfinite(w), Le * (dr.pi * w), 0.0)
+            E += Ee
+            table = getattr(self, "light_group_by_pointer", None)
+            if table is not None:  # the MIS companion: the group of the emitter it hit
+                g = dr.gather(mi.UInt32, table, dr.reinterpret_array(mi.UInt32, emitter), hit)
+                lux_e = dr.select(active, self._lux(Ee), 0.0)
+                self.light_lux = [x + dr.select(hit & (g == i), lux_e, 0.0)
+                                  for i, x in enumerate(self.light_lux)]
         if self.path is not None:
             Lr, _, _ = self.path.sample(scene, sampler, mi.RayDifferential3f(ray), None, active)
-            E += dr.select(active, Lr * dr.pi, 0.0)
+            Er = dr.select(active, Lr * dr.pi, 0.0)
+            E += Er
+            if self.light_lux:  # the interreflected light: the last group, 'indirect'
+                self.light_lux[-1] = self.light_lux[-1] + dr.select(active, self._lux(Er),
+                                                                     0.0)
         return lux + dr.select(active, self._lux(E), 0.0)
 
     def wavelengths(self, sampler, active):

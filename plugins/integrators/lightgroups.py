@@ -89,6 +89,10 @@ Details:
   the lights adds each light's term to the light's group, the emission seen directly goes
   to the emitter's group, and the ambient term and fog colour form the last layer,
   ``ambient``.
+* A scene of the ``illuminance`` integrator gets per-light lux layers from
+  ``illuminance`` (:class:`IlluminanceLightGroups`): each light's lux (exact for delta
+  lights) and its MIS companion go to the light's group, the interreflected light to
+  one more layer, ``indirect``; R = G = B = the lux.
 
 Sources
 -------
@@ -131,6 +135,8 @@ RR_MAX_PROBABILITY = 0.95
 BAND_CHANNEL = "band{:03d}"
 #: The layer of a ``local`` scene's ambient term (:class:`LocalLightGroups`).
 AMBIENT_GROUP = "ambient"
+#: The layer of an ``illuminance`` scene's interreflected light (:class:`IlluminanceLightGroups`).
+INDIRECT_GROUP = "indirect"
 #: ``max_depth`` -1: no limit (Mitsuba's convention: 2^32 - 1 vertices).
 UNLIMITED_DEPTH = 0xFFFFFFFF
 
@@ -392,6 +398,48 @@ class LocalLightGroups(LightGroups):
             Lg = [f * x for x in Lg]
         ambient = L - sum(Lg[1:], Lg[0])  # the ambient term and the fog colour
         return L, valid, self._layers([*Lg, ambient], ray, active, scene)
+
+
+class IlluminanceLightGroups(LightGroups):
+    """Per-light lux of a scene's ``illuminance`` integrator (not a plugin of its own:
+    :func:`spectrace.lightgroups.integrator_for` makes it around the scene's
+    ``illuminance``).
+
+    Its loop over the lights adds each light's lux to the light's group (see the
+    ``illuminance`` page); the interreflected light is the last layer,
+    :data:`INDIRECT_GROUP`. A layer's R, G and B are all its lux, so the layers sum to the
+    ``lux`` channel (the beauty is ``illuminance``'s: its grey preview, ``lux``,
+    ``measured``)."""
+
+    def __init__(self, illuminance, groups: dict):
+        props = mi.Properties(PLUGIN)
+        props["groups"] = lightgroups.format_groups(groups)
+        super().__init__(props)
+        if INDIRECT_GROUP in self.groups:
+            raise ParameterError(f"{PLUGIN}: light group {INDIRECT_GROUP!r} is reserved for "
+                                 "the interreflected light of the illuminance integrator")
+        self.illuminance = illuminance
+        self.names = [*self.groups, INDIRECT_GROUP]
+
+    def aov_names(self):
+        return [*self.illuminance.aov_names(), *super().aov_names()]
+
+    def to_string(self):
+        return f"IlluminanceLightGroups[{self.illuminance.to_string()}, groups={self.names}]"
+
+    def sample(self, scene, sampler, ray, medium=None, active=True):
+        illuminance = self.illuminance
+        illuminance.light_group_of = mi.UInt32(
+            lightgroups.emitter_group_indices(scene, self.groups))
+        illuminance.light_group_count = len(self.groups)
+        illuminance.light_group_by_pointer = self._group_table(scene)
+        try:
+            preview, measured, aovs = illuminance.sample(scene, sampler, ray, medium, active)
+            Eg = list(illuminance.light_lux)
+        finally:
+            illuminance.light_group_of = illuminance.light_group_by_pointer = None
+        layers = [v for E in Eg for v in [dr.select(measured, E, 0.0)] * 3]
+        return preview, measured, [*aovs, *layers]
 
 
 mi.register_integrator(PLUGIN, lambda props: LightGroups(props))

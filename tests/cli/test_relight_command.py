@@ -108,7 +108,7 @@ def test_render_refuses_integrators_it_cannot_split(tmp_path, capsys):
     code = main(["render", str(ROOT / "scenes" / "fog_volpath.xml"), "-o", str(out),
                  "--spp", "1", "-q", "--variant", "llvm_ad_rgb", "--light-groups"])
     assert code == EXIT_USAGE
-    assert_one_line_error(capsys, "'path', 'direct' or 'local'", "Volumetric")
+    assert_one_line_error(capsys, "'path', 'direct', 'local' or 'illuminance'", "Volumetric")
     assert not out.exists()
 
 

@@ -277,7 +277,7 @@ def test_unknown_and_missing_emitters_are_refused(variant_rgb):
     own = mi.load_dict({"type": "lightgroups", "groups": "a=lamp;b=spot"})
     with pytest.raises(ParameterError, match="'bulb' is in no group"):
         lightgroups.integrator_for(scene, True, own)
-    with pytest.raises(ParameterError, match="'path', 'direct' or 'local'"):
+    with pytest.raises(ParameterError, match="'path', 'direct', 'local' or 'illuminance'"):
         lightgroups.integrator_for(scene, True, mi.load_dict({"type": "volpath"}))
 
 
@@ -407,3 +407,87 @@ def test_local_layers_are_its_lights_and_ambient(variant_rgb, fog):
     else:  # attenuated by the fog fraction, about exp(-0.2 d) at d = 3 m; no fog colour
         np.testing.assert_allclose(centre, LOCAL_ALBEDO / np.pi * LOCAL_AMBIENT
                                    * np.exp(-0.2 * 3), rtol=LOCAL_FOG_RTOL)
+
+
+ILLUMINANCE_SCENE = LOCAL_SCENE.replace('<integrator type="local">{ambient}{fog}',
+                                        '<integrator type="illuminance">{integrator}')
+ILLUMINANCE_LAMPS = {
+    "key": '<emitter type="pointlight" id="key"><point name="position" x="0.5" y="0" z="1"/>'
+           '<float name="luminous_intensity" value="100"/></emitter>',
+    "fill": '<emitter type="point" id="fill"><point name="position" x="-1" y="0.5" z="1"/>'
+            '<rgb name="intensity" value="0.7, 0.5, 0.2"/></emitter>',
+    "panel": '<shape type="rectangle" id="panel_shape"><transform name="to_world">'
+             '<scale value="0.3"/><rotate y="1" angle="180"/><translate z="1.5"/></transform>'
+             '<emitter type="area" id="panel"><rgb name="radiance" value="2"/></emitter>'
+             '</shape>',
+    "wall": '<shape type="rectangle"><transform name="to_world"><rotate y="1" angle="-90"/>'
+            '<translate x="1.2" z="1"/></transform><bsdf type="diffuse"/></shape>',
+}
+#: Per-light lux of delta lights at one sample (exact) against a render of that light
+#: alone, and the layers' sum against the lux channel: float32 rounding of the sums.
+LUX_RTOL = 1e-5
+
+
+def _illuminance_render(lamps, integrator="", light_groups=None, spp=1):
+    """(lux (H, W), {group: lux layer (H, W)}) of a render of the illuminance scene."""
+    scene = mi.load_string(ILLUMINANCE_SCENE.format(
+        integrator=integrator, lamps="".join(ILLUMINANCE_LAMPS[k] for k in lamps)))
+    result = spectrace.render(scene, spp=spp, seed=3, light_groups=light_groups)
+    image = np.asarray(result.image, np.float64)
+    if light_groups is None:
+        return image[..., -2], {}
+    base = image.shape[-1] - 3 * len(result.light_groups)
+    _, layers = lightgroups.split(result.image, result.light_groups)
+    for layer in layers.values():  # R = G = B = the lux
+        np.testing.assert_array_equal(layer[..., 0], layer[..., 2])
+    return image[..., base - 2], {g: v[..., 0].astype(np.float64) for g, v in layers.items()}
+
+
+def test_illuminance_layers_are_the_lux_of_each_light(variant):
+    """`illuminance` scene, --light-groups: one lux layer per light and 'indirect'; delta
+    lights are exact at one sample, so a light's layer equals the lux of a render with that
+    light alone (to float precision), the layers sum to the lux, and direct light only
+    leaves 'indirect' empty."""
+    lux, layers = _illuminance_render(["key", "fill"], light_groups=True)
+    assert list(layers) == ["key", "fill", "indirect"]
+    np.testing.assert_allclose(sum(layers.values()), lux, rtol=LUX_RTOL, atol=0)
+    for name in ("key", "fill"):
+        alone, _ = _illuminance_render([name])
+        np.testing.assert_allclose(layers[name], alone, rtol=LUX_RTOL, atol=0)
+        assert layers[name].max() > 1.0
+    assert not layers["indirect"].any()
+    plain, _ = _illuminance_render(["key", "fill"])
+    np.testing.assert_array_equal(lux, plain)  # the layers change nothing of the lux
+
+
+def test_illuminance_layers_with_area_lights_and_interreflections(variant_rgb):
+    """With an area light (its light sample and its MIS companion both go to its group)
+    and interreflections (max_depth 3: the 'indirect' layer), the per-light lux still sum
+    to the total lux to float precision, and the panel's and the wall's light are there."""
+    lux, layers = _illuminance_render(["key", "panel", "wall"],
+                                      '<integer name="max_depth" value="3"/>',
+                                      light_groups=True, spp=4)
+    assert list(layers) == ["key", "panel", "indirect"]
+    np.testing.assert_allclose(sum(layers.values()), lux, rtol=LUX_RTOL,
+                               atol=LUX_RTOL * lux.max())
+    assert layers["panel"].max() > 0 and layers["indirect"].max() > 0
+
+
+def test_illuminance_layers_refuse_spectral_bands(variant_spectral):
+    """Per-light lux layers are lux, not spectral bands: asking for bands is refused."""
+    from spectrace.errors import ParameterError
+
+    scene = mi.load_string(ILLUMINANCE_SCENE.format(integrator="",
+                                                    lamps=ILLUMINANCE_LAMPS["key"]))
+    with pytest.raises(ParameterError, match="illuminance"):
+        lightgroups.integrator_for(scene, True, band_wavelengths=[400.0, 500.0, 600.0])
+
+
+def test_illuminance_layers_integrator_is_kept(variant_rgb):
+    """`spectrace render --light-groups` builds the per-light lux integrator before the
+    render: giving it back to integrator_for keeps it (not refused, not wrapped twice)."""
+    scene = mi.load_string(ILLUMINANCE_SCENE.format(integrator="",
+                                                    lamps=ILLUMINANCE_LAMPS["key"]))
+    made = lightgroups.integrator_for(scene, True)
+    assert type(made).__name__ == "IlluminanceLightGroups"
+    assert lightgroups.integrator_for(scene, True, made) is made
