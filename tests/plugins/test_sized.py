@@ -1,7 +1,8 @@
 """Tests of the lights with a size (``plugins/emitters/sized.py``: ``source_radius`` of
 ``pointlight`` and ``spotlight``, their expansion into shapes): far field, near field
 against closed forms (Howell's sphere, the disk on its axis), the penumbra of a straight
-edge, the luminance seen by a camera, light tracing, variants and bad input."""
+edge under a sphere and a disk, the luminance seen by a camera, light tracing, variants
+and bad input."""
 
 from __future__ import annotations
 
