@@ -504,6 +504,21 @@ def _cylinder_visible(to_local, radius, half_height, ref_p):
     return alpha, dr.atan2(r.y, r.x), cap_sign, side, cap
 
 
+def _cylinder_surface(radius, half_height, on_side, phi, cap_sign, sample):
+    """The local point and outward normal of the closed cylinder: on its side at the
+    azimuth ``phi`` and the height from ``sample.y`` where ``on_side``, else uniform on the
+    cap ``cap_sign`` (+-1) from the 2D ``sample``."""
+    disk = mi.warp.square_to_uniform_disk_concentric(sample)
+    local = mi.Point3f(dr.select(on_side, radius * dr.cos(phi), radius * disk.x),
+                       dr.select(on_side, radius * dr.sin(phi), radius * disk.y),
+                       dr.select(on_side, half_height * dr.fma(sample.y, 2.0, -1.0),
+                                 cap_sign * half_height))
+    n_local = mi.Normal3f(dr.select(on_side, dr.cos(phi), 0.0),
+                          dr.select(on_side, dr.sin(phi), 0.0),
+                          dr.select(on_side, 0.0, cap_sign))
+    return local, n_local
+
+
 def cylinder_sample_direction(to_world, to_local, radius, half_height, ref_p, sample):
     """``(p, n, pdf)``: a point uniform by area on the part of the closed cylinder that
     ``ref_p`` sees (the lit arc of its side and the cap on its side; the cylinder is
@@ -518,14 +533,8 @@ def cylinder_sample_direction(to_world, to_local, radius, half_height, ref_p, sa
                   (t - side) * dr.rcp(dr.maximum(cap, 1e-30)))
     u = dr.clip(u, 0.0, dr.one_minus_epsilon(mi.Float))
     phi = phi_ref + alpha * dr.fma(u, 2.0, -1.0)
-    disk = mi.warp.square_to_uniform_disk_concentric(mi.Point2f(u, sample.y))
-    local = mi.Point3f(dr.select(on_side, radius * dr.cos(phi), radius * disk.x),
-                       dr.select(on_side, radius * dr.sin(phi), radius * disk.y),
-                       dr.select(on_side, half_height * dr.fma(sample.y, 2.0, -1.0),
-                                 cap_sign * half_height))
-    n_local = mi.Normal3f(dr.select(on_side, dr.cos(phi), 0.0),
-                          dr.select(on_side, dr.sin(phi), 0.0),
-                          dr.select(on_side, 0.0, cap_sign))
+    local, n_local = _cylinder_surface(radius, half_height, on_side, phi, cap_sign,
+                                       mi.Point2f(u, sample.y))
     p = mi.Point3f(to_world @ local)
     n = mi.Normal3f(dr.normalize(to_world @ n_local))
     pdf = _solid_angle_from_area(ref_p, p, n, total)
@@ -552,15 +561,8 @@ def cylinder_point(to_world, radius, half_height, sample):
     cap_sign = dr.select(u < 1.0, 1.0, -1.0)
     u = dr.clip(dr.select(on_side | (u < 1.0), u, u - 1.0), 0.0,
                 dr.one_minus_epsilon(mi.Float))
-    phi = 2.0 * math.pi * u
-    disk = mi.warp.square_to_uniform_disk_concentric(mi.Point2f(u, sample.y))
-    local = mi.Point3f(dr.select(on_side, radius * dr.cos(phi), radius * disk.x),
-                       dr.select(on_side, radius * dr.sin(phi), radius * disk.y),
-                       dr.select(on_side, half_height * dr.fma(sample.y, 2.0, -1.0),
-                                 cap_sign * half_height))
-    n_local = mi.Normal3f(dr.select(on_side, dr.cos(phi), 0.0),
-                          dr.select(on_side, dr.sin(phi), 0.0),
-                          dr.select(on_side, 0.0, cap_sign))
+    local, n_local = _cylinder_surface(radius, half_height, on_side, 2.0 * math.pi * u,
+                                       cap_sign, mi.Point2f(u, sample.y))
     return (mi.Point3f(to_world @ local), mi.Normal3f(dr.normalize(to_world @ n_local)),
             mi.Float(total))
 

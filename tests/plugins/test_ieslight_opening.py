@@ -107,19 +107,26 @@ def test_far_field_is_the_point_law(variant_rgb, tmp_path, opening):
     (opening 'point', the law I cos(theta) / d^2) to within 0.5%. (Not a box: its faces
     lie h/2 from the photometric centre, which moves its lux by about h/d, 0.9% measured
     for a 0.1 m high box at 6 m.)"""
+    path = washer_file(tmp_path, opening)
+    sized, point = far_field_lux(path, {}, 20 * max(abs(x) for x in opening))
+    np.testing.assert_allclose(sized, point, rtol=RTOL_FAR)
+
+
+def far_field_lux(path, extra: dict, d: float, spp: int = SPP):
+    """The lux of the ``ieslight`` of ``path`` (with ``extra`` parameters, turned 30
+    degrees about z) and of its point version on five points of a plane at the height
+    ``d`` under it."""
     import mitsuba as mi
 
-    path = washer_file(tmp_path, opening)
-    d = 20 * max(abs(x) for x in opening)
     x = np.linspace(-0.8, 0.8, 5) * d
     points = np.stack([x, 0.3 * x, np.full_like(x, d)], axis=1)
     normals = np.tile([0.0, 0.0, -1.0], (len(x), 1))
     to_world = mi.ScalarTransform4f().rotate([0, 0, 1], 30.0)
-    sized, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world}, points,
-                   normals)
+    sized, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world, **extra},
+                   points, normals, spp=spp)
     point, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world,
                     "opening": "point"}, points, normals, spp=1)
-    np.testing.assert_allclose(sized, point, rtol=RTOL_FAR)
+    return sized, point
 
 
 @pytest.mark.parametrize("opening", [(0.2, 0.5, 0.0), (0.2, 0.5, 0.3)],
@@ -130,10 +137,17 @@ def test_flux_through_a_closed_box(variant_rgb, tmp_path, opening):
     the file's flux."""
     from spectrace.photometry import read_photometry
 
+    path = washer_file(tmp_path, opening)
+    flux = flux_through_closed_box({"type": "ieslight", "filename": path})
+    assert flux == pytest.approx(read_photometry(path).flux, rel=RTOL_FLUX)
+
+
+def flux_through_closed_box(light: dict, half: float = 0.8) -> float:
+    """The flux (lm) that ``light`` sends through the closed box [-half, half]^3: the
+    Gauss-Legendre quadrature (FLUX_NODES per axis) of the inward illuminance over its
+    six faces."""
     from spectrace.validation.reference import gauss_legendre_grid
 
-    path = washer_file(tmp_path, opening)
-    half = 0.8
     points, normals, weights = [], [], []
     for axis in range(3):
         others = [k for k in range(3) if k != axis]
@@ -146,10 +160,8 @@ def test_flux_through_a_closed_box(variant_rgb, tmp_path, opening):
             points.append(p)
             normals.append(n)
             weights.append(w)
-    E, _ = lux({"type": "ieslight", "filename": path}, np.concatenate(points),
-               np.concatenate(normals), spp=512)
-    flux = float(np.sum(E * np.concatenate(weights)))
-    assert flux == pytest.approx(read_photometry(path).flux, rel=RTOL_FLUX)
+    E, _ = lux(light, np.concatenate(points), np.concatenate(normals), spp=512)
+    return float(np.sum(E * np.concatenate(weights)))
 
 
 @pytest.mark.parametrize("variant_name", COLOUR_VARIANTS)
@@ -440,18 +452,8 @@ def test_cylinder_far_field_is_the_point_law(variant_rgb, tmp_path):
     """Far away (400 times its size: its caps lie h/2 from the photometric centre, a
     first-order error h/d like the box's) a closed cylinder opening lights a plane as its
     point version to within 0.5%."""
-    import mitsuba as mi
-
-    path = washer_file(tmp_path)
-    d = 400 * 0.4
-    x = np.linspace(-0.8, 0.8, 5) * d
-    points = np.stack([x, 0.3 * x, np.full_like(x, d)], axis=1)
-    normals = np.tile([0.0, 0.0, -1.0], (len(x), 1))
-    to_world = mi.ScalarTransform4f().rotate([0, 0, 1], 30.0)
-    sized, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world, **CYLINDER},
-                   points, normals, spp=2**17)  # area sampling: weights vary with cos
-    point, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world,
-                    "opening": "point"}, points, normals, spp=1)
+    # Area sampling: the weights vary with the cosine on the side, hence more samples.
+    sized, point = far_field_lux(washer_file(tmp_path), CYLINDER, 400 * 0.4, spp=2**17)
     np.testing.assert_allclose(sized, point, rtol=RTOL_FAR)
 
 
@@ -461,25 +463,8 @@ def test_cylinder_flux_through_a_closed_box(variant_rgb, tmp_path):
     within 0.5%."""
     from spectrace.photometry import read_photometry
 
-    from spectrace.validation.reference import gauss_legendre_grid
-
     path = washer_file(tmp_path)
-    half = 0.8
-    points, normals, weights = [], [], []
-    for axis in range(3):
-        others = [k for k in range(3) if k != axis]
-        a, b, w = gauss_legendre_grid(-half, half, -half, half, FLUX_NODES)
-        for side in (-1.0, 1.0):
-            p = np.zeros((len(a), 3))
-            p[:, axis], p[:, others[0]], p[:, others[1]] = side * half, a, b
-            n = np.zeros_like(p)
-            n[:, axis] = -side
-            points.append(p)
-            normals.append(n)
-            weights.append(w)
-    E, _ = lux({"type": "ieslight", "filename": path, **CYLINDER}, np.concatenate(points),
-               np.concatenate(normals), spp=512)
-    flux = float(np.sum(E * np.concatenate(weights)))
+    flux = flux_through_closed_box({"type": "ieslight", "filename": path, **CYLINDER})
     assert flux == pytest.approx(read_photometry(path).flux, rel=RTOL_FLUX)
 
 
