@@ -171,7 +171,6 @@ def test_meter_sees_intensity_over_projected_area(tmp_path, variant_name, openin
     """A radiance meter looking at the opening (on its shape) sees the luminance
     L = I(omega) / A_proj(omega) of the file's intensity in the meter's direction omega
     (L_v = K_m integral V L_e, from the film's Y), in RGB, spectral and mono."""
-    import mitsuba as mi
     from spectrace.photometry import read_photometry
     from spectrace.plugins.emitters import sized
 
@@ -192,16 +191,24 @@ def test_meter_sees_intensity_over_projected_area(tmp_path, variant_name, openin
     expected = read_photometry(path).intensity(np.degrees(gamma), np.degrees(c)) / area
     scene = sized.expand_dict({"type": "scene", "light": {"type": "ieslight",
                                                           "filename": path}})
-    scene["integrator"] = {"type": "path", "max_depth": 1}
+    assert meter_luminance(scene, omega, 1024) == pytest.approx(float(expected),
+                                                             rel=RTOL_RADIANCE)
+
+
+def meter_luminance(scene: dict, omega, spp: int) -> float:
+    """The luminance (cd/m^2, K_m integral V L_e from the film's Y) that a radiance meter
+    3 m away along ``omega``, looking back at the origin, sees in ``scene`` (a dict)."""
+    import mitsuba as mi
+
+    scene = {**scene, "integrator": {"type": "path", "max_depth": 1}}
     scene["sensor"] = {
         "type": "radiancemeter", "origin": list(3.0 * omega), "direction": list(-omega),
         "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "luminance",
                  "rfilter": {"type": "box"}},
-        "sampler": {"type": "independent", "sample_count": 1024},
+        "sampler": {"type": "independent", "sample_count": spp},
     }
     Y = float(np.array(mi.render(mi.load_dict(scene)), dtype=np.float64).ravel()[0])
-    assert checks.KM * checks.CIE_Y_INTEGRAL * Y == pytest.approx(float(expected),
-                                                                   rel=RTOL_RADIANCE)
+    return checks.KM * checks.CIE_Y_INTEGRAL * Y
 
 
 REF = (0.1, -0.2, 0.3)
@@ -486,16 +493,8 @@ def test_cylinder_is_one_mesh_seen_with_its_luminance(variant_rgb, tmp_path):
     omega = np.array([np.sin(gamma) * np.cos(c), -np.sin(gamma) * np.sin(c), np.cos(gamma)])
     area = 2 * r * h * np.sin(gamma) + np.pi * r * r * abs(np.cos(gamma))
     expected = read_photometry(path).intensity(np.degrees(gamma), np.degrees(c)) / area
-    scene["integrator"] = {"type": "path", "max_depth": 1}
-    scene["sensor"] = {
-        "type": "radiancemeter", "origin": list(3.0 * omega), "direction": list(-omega),
-        "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "luminance",
-                 "rfilter": {"type": "box"}},
-        "sampler": {"type": "independent", "sample_count": 64},
-    }
-    Y = float(np.array(mi.render(mi.load_dict(scene)), dtype=np.float64).ravel()[0])
-    assert checks.KM * checks.CIE_Y_INTEGRAL * Y == pytest.approx(float(expected),
-                                                                   rel=RTOL_RADIANCE)
+    assert meter_luminance(scene, omega, 64) == pytest.approx(float(expected),
+                                                             rel=RTOL_RADIANCE)
 
 
 def test_file_vertical_cylinder_is_the_cylinder_opening(variant_rgb, tmp_path):
