@@ -509,3 +509,22 @@ def test_file_vertical_cylinder_is_the_cylinder_opening(variant_rgb, tmp_path):
     cap = light.projected_area(mi.Vector3f(0.0, 0.0, 1.0))
     assert float(side[0]) == pytest.approx(0.3 * 0.2, rel=1e-6)
     assert float(cap[0]) == pytest.approx(np.pi * 0.15**2, rel=1e-6)
+
+
+def test_xml_cylinder_stays_an_unseen_light(variant_rgb, tmp_path):
+    """In an XML scene a cylinder opening is not put on a shape (its mesh is made by
+    ``sized.expand_dict`` only): the light loads unattached, with no shape and no
+    visible luminaire."""
+    from spectrace.lighting.glare import has_visible_lights
+    from spectrace.scene import load_scene
+
+    washer_file(tmp_path)
+    scene_path = tmp_path / "cylinder.xml"
+    scene_path.write_text(
+        '<scene version="3.0.0"><integrator type="direct"/><sensor type="perspective"/>'
+        '<emitter type="ieslight"><string name="filename" value="washer.ies"/>'
+        '<string name="opening" value="cylinder"/><float name="diameter" value="0.3"/>'
+        '<float name="height" value="0.4"/></emitter></scene>')
+    scene = load_scene(scene_path)
+    assert len(scene.shapes()) == 0 and scene.emitters()[0].get_shape() is None
+    assert not has_visible_lights(scene)
