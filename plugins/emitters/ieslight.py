@@ -45,15 +45,16 @@ parameter            type       default         unit  description
                                                       and size the file gives; a point when its
                                                       dimensions are 0), ``point`` (the delta
                                                       light), ``rectangle``, ``disk``,
-                                                      ``sphere`` or ``box`` with the sizes below
+                                                      ``sphere``, ``box`` or ``cylinder``
+                                                      (closed, vertical) with the sizes below
 ``width``            float      --              m     ``rectangle``, ``box``: the size along
                                                       C90-C270 (local y); > 0
 ``length``           float      --              m     ``rectangle``, ``box``: the size along
                                                       C0-C180 (local x); > 0
-``height``           float      --              m     ``box``: the size along gamma = 0 (local
-                                                      z); > 0
-``diameter``         float      --              m     ``disk`` (facing gamma = 0), ``sphere``;
-                                                      > 0
+``height``           float      --              m     ``box``, ``cylinder``: the size along
+                                                      gamma = 0 (local z); > 0
+``diameter``         float      --              m     ``disk`` (facing gamma = 0), ``sphere``,
+                                                      ``cylinder`` (about local z); > 0
 ===================  =========  ==============  ====  ==========================================
 
 The emission parameters of the other lights (``intensity``, ``power``,
@@ -135,7 +136,8 @@ luminance::
 
 (W/(sr m^2); for the file's candela cd/m^2), A_proj the area the opening shows along omega:
 4 hx hy |cos gamma| (rectangle), pi r^2 |cos gamma| (disk), pi r^2 (sphere),
-y z |d_x| + x z |d_y| + x y |d_z| (box of edges x, y, z). Integrated over the opening,
+y z |d_x| + x z |d_y| + x y |d_z| (box of edges x, y, z), 2 r h sin(gamma) + pi r^2
+|cos(gamma)| (closed cylinder). Integrated over the opening,
 sum L cos(theta_x) dA = I_e(omega): far away it is the file's intensity, and it emits the
 file's flux; near it the lux differ from the point law (``spectrace ies FILE`` prints the
 difference at the photometric distance). The flat openings (rectangle, disk) emit from
@@ -143,18 +145,24 @@ both faces, so that light above the horizon (gamma > 90) keeps its intensity too
 opening lies centred on the photometric centre (the origin of ``to_world``, which must
 then be rigid), the length along C0-C180 (local x) and the width along C90-C270 (local y),
 as Radiance's ``ies2rad`` reads them. Of the file's shapes (``Photometry.opening``) the
-light renders rectangle, disk, sphere and box; another one (an ellipse, a cylinder, ...)
-is refused with ``opening`` ``file``: give ``point`` or one of those with its sizes.
+light renders rectangle, disk, sphere, box and vertical cylinder; another one (an
+ellipse, a horizontal cylinder, ...) is refused with ``opening`` ``file``: give ``point``
+or one of those with its sizes.
 
 As ``pointlight``'s ``source_radius`` (``spectrace help sized``), spectrace's scene loader
 puts an ``ieslight`` with an opening on a black ``rectangle``, ``disk``, ``sphere`` or
-``cube`` of that size (``mi.load_dict`` users: ``sized.expand_dict``): one element in the
-XML, a luminaire the camera sees with its luminance L and that BSDF-sampled rays hit
+``cube`` of that size (``mi.load_dict`` users: ``sized.expand_dict``; a cylinder: one
+closed black ``mi.Mesh`` of 256 sides, side and caps, made by ``sized.expand_dict`` only,
+since Mitsuba's ``cylinder`` is open and an emitter has one shape: in an XML scene a
+cylinder opening stays an unseen light with the right lux): one element in the XML, a
+luminaire the camera sees with its luminance L and that BSDF-sampled rays hit
 (multiple importance sampling in ``path``, ``volpath``, ``direct``). Next-event estimation
 samples the sphere and the rectangle by the solid angle they subtend, the disk by solid
 angle near it (``opening``'s ``auto``), the box by area over the faces the point sees
-(each in proportion to its area times the cosine towards the point); the distance law must
-be ``inverse_square``. ``opening`` ``point`` keeps the delta light exactly.
+(each in proportion to its area times the cosine towards the point), the cylinder
+uniformly by area over the part the point sees (the lit arc of its side, the cap on its
+side); the distance law must be ``inverse_square``. ``opening`` ``point`` keeps the delta
+light exactly.
 
 Light tracing. ``sample_ray`` picks a cell [C_i, C_i+1] x [gamma_j, gamma_j+1] of the
 profile's grid (``Photometry.angle_grid``; with Mitsuba's ``DiscreteDistribution``) with
@@ -687,6 +695,9 @@ class IESLight(delta.DeltaLight):
         if self.opening_kind == "box":
             return opening.box_sample_direction(self.to_world, self.to_local, self.half,
                                                 ref_p, sample)
+        if self.opening_kind == "cylinder":
+            return opening.cylinder_sample_direction(self.to_world, self.to_local, hx, hz,
+                                                     ref_p, sample)
         to_world, to_local = self._flat_frame((self.to_local @ ref_p).z < 0.0)
         if self.opening_kind == "rectangle":
             return opening.rectangle_solid_angle_sample(to_world, hx, hy, ref_p, sample)
@@ -703,6 +714,9 @@ class IESLight(delta.DeltaLight):
         elif self.opening_kind == "box":
             pdf = dr.select(outward, opening.box_pdf_direction(
                 self.to_local, self.half, it.p, ds.p, ds.n), 0.0)
+        elif self.opening_kind == "cylinder":
+            pdf = dr.select(outward, opening.cylinder_pdf_direction(
+                self.to_local, hx, hz, it.p, ds.p, ds.n), 0.0)
         else:
             to_world, to_local = self._flat_frame((self.to_local @ it.p).z < 0.0)
             if self.opening_kind == "rectangle":
@@ -724,6 +738,8 @@ class IESLight(delta.DeltaLight):
             return mi.Float(4.0 * math.pi * hx * hx)
         if self.opening_kind == "box":
             return mi.Float(8.0 * (hx * hy + hx * hz + hy * hz))
+        if self.opening_kind == "cylinder":
+            return mi.Float(2.0 * math.pi * hx * (2.0 * hz + hx))
         face = 4.0 * hx * hy if self.opening_kind == "rectangle" else math.pi * hx * hx
         return mi.Float(2.0 * face)
 
@@ -736,6 +752,8 @@ class IESLight(delta.DeltaLight):
             return mi.Point3f(self.position + hx * n), n, self._area()
         if self.opening_kind == "box":
             return opening.box_point(self.to_world, self.half, sample)
+        if self.opening_kind == "cylinder":
+            return opening.cylinder_point(self.to_world, hx, hz, sample)
         back = sample.x < 0.5  # the side, then the sample made uniform again
         sample = mi.Point2f(dr.select(back, 2.0 * sample.x, 2.0 * sample.x - 1.0), sample.y)
         to_world, _ = self._flat_frame(back)
@@ -754,6 +772,8 @@ class IESLight(delta.DeltaLight):
             return opening.sphere_projected_area(hx)
         if self.opening_kind == "box":
             return opening.box_projected_area((2.0 * hx, 2.0 * hy, 2.0 * hz), local_d)
+        if self.opening_kind == "cylinder":
+            return opening.cylinder_projected_area(hx, 2.0 * hz, local_d.z)
         cos_gamma = dr.abs(local_d.z)
         if self.opening_kind == "rectangle":
             return opening.rectangle_projected_area(hx, hy, cos_gamma)

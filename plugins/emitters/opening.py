@@ -85,6 +85,8 @@ A 10 cm sphere sampled by area, to compare its noise with the default::
 
 from __future__ import annotations
 
+import math
+
 import drjit as dr
 import mitsuba as mi
 
@@ -486,3 +488,99 @@ def box_point(to_world, half, sample):
     local, n_local = _box_face_point(half, axis, sign, mi.Point2f(u, sample.y))
     return (mi.Point3f(to_world @ local), mi.Normal3f(dr.normalize(to_world @ n_local)),
             2.0 * total)
+
+
+def _cylinder_visible(to_local, radius, half_height, ref_p):
+    """What ``ref_p`` sees of the closed cylinder (local z axis, ``radius``, from -hz to
+    hz): the half-angle alpha of the lit arc of its side (acos(r / rho), 0 when rho <= r),
+    the azimuth of the point, the sign of the cap it sees (0 for none) and the areas seen
+    of the side (2 alpha r 2 hz) and of that cap."""
+    r = to_local @ ref_p
+    rho = dr.sqrt(dr.square(r.x) + dr.square(r.y))
+    alpha = dr.select(rho > radius, dr.acos(dr.minimum(radius * dr.rcp(rho), 1.0)), 0.0)
+    cap_sign = dr.select(r.z > half_height, 1.0, dr.select(r.z < -half_height, -1.0, 0.0))
+    side = 4.0 * alpha * radius * half_height
+    cap = dr.abs(cap_sign) * dr.pi * radius * radius
+    return alpha, dr.atan2(r.y, r.x), cap_sign, side, cap
+
+
+def _cylinder_surface(radius, half_height, on_side, phi, cap_sign, sample):
+    """The local point and outward normal of the closed cylinder: on its side at the
+    azimuth ``phi`` and the height from ``sample.y`` where ``on_side``, else uniform on the
+    cap ``cap_sign`` (+-1) from the 2D ``sample``."""
+    disk = mi.warp.square_to_uniform_disk_concentric(sample)
+    local = mi.Point3f(dr.select(on_side, radius * dr.cos(phi), radius * disk.x),
+                       dr.select(on_side, radius * dr.sin(phi), radius * disk.y),
+                       dr.select(on_side, half_height * dr.fma(sample.y, 2.0, -1.0),
+                                 cap_sign * half_height))
+    n_local = mi.Normal3f(dr.select(on_side, dr.cos(phi), 0.0),
+                          dr.select(on_side, dr.sin(phi), 0.0),
+                          dr.select(on_side, 0.0, cap_sign))
+    return local, n_local
+
+
+def cylinder_sample_direction(to_world, to_local, radius, half_height, ref_p, sample):
+    """``(p, n, pdf)``: a point uniform by area on the part of the closed cylinder that
+    ``ref_p`` sees (the lit arc of its side and the cap on its side; the cylinder is
+    convex, so the rest is hidden), its outward normal and the density in solid angle (0
+    from inside)."""
+    alpha, phi_ref, cap_sign, side, cap = _cylinder_visible(to_local, radius, half_height,
+                                                            ref_p)
+    total = side + cap
+    t = sample.x * total
+    on_side = t < side
+    u = dr.select(on_side, t * dr.rcp(dr.maximum(side, 1e-30)),
+                  (t - side) * dr.rcp(dr.maximum(cap, 1e-30)))
+    u = dr.clip(u, 0.0, dr.one_minus_epsilon(mi.Float))
+    phi = phi_ref + alpha * dr.fma(u, 2.0, -1.0)
+    local, n_local = _cylinder_surface(radius, half_height, on_side, phi, cap_sign,
+                                       mi.Point2f(u, sample.y))
+    p = mi.Point3f(to_world @ local)
+    n = mi.Normal3f(dr.normalize(to_world @ n_local))
+    pdf = _solid_angle_from_area(ref_p, p, n, total)
+    return p, n, dr.select(total > 0.0, pdf, 0.0)
+
+
+def cylinder_pdf_direction(to_local, radius, half_height, ref_p, p, n):
+    """The density in solid angle of :func:`cylinder_sample_direction` at the point ``p``
+    (outward normal ``n``) of the cylinder."""
+    _, _, _, side, cap = _cylinder_visible(to_local, radius, half_height, ref_p)
+    total = side + cap
+    return dr.select(total > 0.0, _solid_angle_from_area(ref_p, p, n, total), 0.0)
+
+
+def cylinder_point(to_world, radius, half_height, sample):
+    """A point uniform by area over the whole closed cylinder (``sample``: 2D), its
+    outward normal, and the cylinder's area 2 pi r (2 hz) + 2 pi r^2."""
+    side = 4.0 * math.pi * radius * half_height
+    cap = math.pi * radius * radius
+    total = side + 2.0 * cap
+    t = sample.x * total
+    on_side = t < side
+    u = dr.select(on_side, t / side, (t - side) / cap)
+    cap_sign = dr.select(u < 1.0, 1.0, -1.0)
+    u = dr.clip(dr.select(on_side | (u < 1.0), u, u - 1.0), 0.0,
+                dr.one_minus_epsilon(mi.Float))
+    local, n_local = _cylinder_surface(radius, half_height, on_side, 2.0 * math.pi * u,
+                                       cap_sign, mi.Point2f(u, sample.y))
+    return (mi.Point3f(to_world @ local), mi.Normal3f(dr.normalize(to_world @ n_local)),
+            mi.Float(total))
+
+
+def cylinder_mesh(segments: int = 256):
+    """Vertices (V, 3) and triangles (F, 3) of the closed unit cylinder (radius 1, z from
+    -1 to 1; outward winding) with ``segments`` sides, for the shape that carries a
+    cylinder opening."""
+    import numpy as np
+
+    phi = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    ring = np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    vertices = np.concatenate([np.c_[ring, -np.ones(segments)], np.c_[ring, np.ones(segments)],
+                               [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]])
+    i = np.arange(segments)
+    j = (i + 1) % segments
+    n = segments
+    faces = np.concatenate([np.stack([i, j, n + j], 1), np.stack([i, n + j, n + i], 1),
+                            np.stack([np.full(n, 2 * n), j, i], 1),
+                            np.stack([np.full(n, 2 * n + 1), n + i, n + j], 1)])
+    return vertices.astype(np.float32), faces.astype(np.uint32)

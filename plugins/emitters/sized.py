@@ -271,22 +271,29 @@ IES_OPENINGS = {
     "disk": ("diameter",),
     "sphere": ("diameter",),
     "box": ("width", "length", "height"),
+    "cylinder": ("diameter", "height"),
 }
 #: Every size parameter of ``ieslight``'s openings.
 IES_SIZES = ("width", "length", "height", "diameter")
 #: The openings of ``Photometry.opening`` that ``ieslight`` renders -> its ``opening``.
 IES_FILE_SHAPES = {"point": "point", "rectangle": "rectangle", "disk": "disk",
-                   "sphere": "sphere", "box": "box"}
+                   "sphere": "sphere", "box": "box", "vertical_cylinder": "cylinder"}
 #: ``ieslight`` opening -> the Mitsuba shape that carries it.
-IES_SHAPES = {"rectangle": "rectangle", "disk": "disk", "sphere": "sphere", "box": "cube"}
+#: (``cylinder``: a closed mesh made at load, see :func:`cylinder_shape`.)
+IES_SHAPES = {"rectangle": "rectangle", "disk": "disk", "sphere": "sphere", "box": "cube",
+              "cylinder": "mesh"}
+#: Sides of the mesh that carries a ``cylinder`` opening (its area is within 1e-4 of the
+#: cylinder's, which the light samples exactly).
+CYLINDER_SEGMENTS = 256
 
 
 def resolve_opening(values: dict, file_opening, plugin: str = "ieslight"):
     """The kind of an ``ieslight``'s opening ("point", "rectangle", "disk", "sphere",
-    "box") and its half-extents (hx, hy, hz) along local x (C0-C180, the length), y
-    (C90-C270, the width) and z (the height; 0 for a flat opening; a radius for disks and
-    spheres), from ``values`` (``opening`` and the size parameters; None when absent) and
-    the file's ``Opening`` (``file_opening``: a callable returning it, or None).
+    "box", "cylinder") and its half-extents (hx, hy, hz) along local x (C0-C180, the
+    length), y (C90-C270, the width) and z (the height; 0 for a flat opening; a radius for
+    disks and spheres; hx = hy the radius of a cylinder), from ``values`` (``opening``
+    and the size parameters; None when absent) and the file's ``Opening``
+    (``file_opening``: a callable returning it, or None).
 
     Raises ``ParameterError`` naming the parameter: an unknown opening, a size that does
     not apply to it, a missing, negative, NaN or zero size."""
@@ -332,6 +339,9 @@ def resolve_opening(values: dict, file_opening, plugin: str = "ieslight"):
         return name, (0.5 * sizes["length"], 0.5 * sizes["width"], 0.0)
     if name == "box":
         return name, (0.5 * sizes["length"], 0.5 * sizes["width"], 0.5 * sizes["height"])
+    if name == "cylinder":
+        radius = 0.5 * sizes["diameter"]
+        return name, (radius, radius, 0.5 * sizes["height"])
     radius = 0.5 * sizes["diameter"]
     return name, (radius, radius, radius if name == "sphere" else 0.0)
 
@@ -403,7 +413,8 @@ def expand_ies_tree(root: ET.Element, values: dict[str, str] | None = None,
     """Rewrite, in place, every ``ieslight`` of ``root`` outside a ``<shape>`` whose
     opening is not a point (its ``opening``, or the file's: a relative ``filename`` is
     looked up in ``folder``) into the black rectangle, disk, sphere or cube that carries
-    it. Returns whether it changed anything."""
+    it (a cylinder stays an unattached light: right lux, not seen; its mesh is made by
+    :func:`expand_ies_dict` only). Returns whether it changed anything."""
     values = values or {}
     changed = False
     for parent in root.iter():
@@ -413,8 +424,8 @@ def expand_ies_tree(root: ET.Element, values: dict[str, str] | None = None,
             if element.tag != "emitter" or element.get("type") != "ieslight":
                 continue
             resolved = _ies_opening(_ies_values(element, values), folder)
-            if resolved is None:
-                continue
+            if resolved is None or resolved[0] == "cylinder":
+                continue  # a cylinder stays an unattached (invisible) light in XML
             parent.remove(element)
             parent.insert(index, _ies_shape_xml(element, *resolved))
             changed = True
@@ -423,7 +434,8 @@ def expand_ies_tree(root: ET.Element, values: dict[str, str] | None = None,
 
 def expand_ies_dict(scene: dict) -> dict:
     """The ``mi.load_dict`` scene dictionary with each top-level ``ieslight`` whose opening
-    is not a point carried by its black shape (a new dictionary)."""
+    is not a point carried by its black shape (a new dictionary; a cylinder: the
+    ``mi.Mesh`` of :func:`cylinder_shape`)."""
     import mitsuba as mi
 
     out = {}
@@ -438,8 +450,34 @@ def expand_ies_dict(scene: dict) -> dict:
             continue
         kind, half = resolved
         to_world = mi.ScalarTransform4f(value.get("to_world", mi.ScalarTransform4f()))
+        if kind == "cylinder":
+            out[key] = cylinder_shape(mi.load_dict(value), to_world, half)
+            continue
         out[key] = {"type": IES_SHAPES[kind],
                     "to_world": to_world @ mi.ScalarTransform4f().scale(
                         list(_ies_scale(kind, half))),
                     "bsdf": {"type": "diffuse", "reflectance": 0.0}, "emitter": value}
     return out
+
+
+def cylinder_shape(emitter, to_world, half):
+    """The closed cylinder (half-extents ``half`` = (r, r, hz) along the local axes of
+    ``to_world``) as ONE black ``mi.Mesh`` of CYLINDER_SEGMENTS sides carrying the loaded
+    ``emitter`` (Mitsuba's own ``cylinder`` is open, and an emitter has one shape)."""
+    import drjit as dr
+    import mitsuba as mi
+    import numpy as np
+    from spectrace.plugins.emitters import opening
+
+    vertices, faces = opening.cylinder_mesh(CYLINDER_SEGMENTS)
+    matrix = np.array(to_world.matrix, dtype=np.float64) @ np.diag([*half, 1.0])
+    world = vertices.astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
+    props = mi.Properties()
+    props["emitter"] = emitter
+    props["bsdf"] = mi.load_dict({"type": "diffuse", "reflectance": 0.0})
+    mesh = mi.Mesh("ieslight_cylinder", len(world), len(faces), props)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = dr.ravel(mi.Point3f(world.T.astype(np.float32)))
+    params["faces"] = dr.ravel(mi.Vector3u(faces.T))
+    params.update()
+    return mesh

@@ -107,19 +107,26 @@ def test_far_field_is_the_point_law(variant_rgb, tmp_path, opening):
     (opening 'point', the law I cos(theta) / d^2) to within 0.5%. (Not a box: its faces
     lie h/2 from the photometric centre, which moves its lux by about h/d, 0.9% measured
     for a 0.1 m high box at 6 m.)"""
+    path = washer_file(tmp_path, opening)
+    sized, point = far_field_lux(path, {}, 20 * max(abs(x) for x in opening))
+    np.testing.assert_allclose(sized, point, rtol=RTOL_FAR)
+
+
+def far_field_lux(path, extra: dict, d: float, spp: int = SPP):
+    """The lux of the ``ieslight`` of ``path`` (with ``extra`` parameters, turned 30
+    degrees about z) and of its point version on five points of a plane at the height
+    ``d`` under it."""
     import mitsuba as mi
 
-    path = washer_file(tmp_path, opening)
-    d = 20 * max(abs(x) for x in opening)
     x = np.linspace(-0.8, 0.8, 5) * d
     points = np.stack([x, 0.3 * x, np.full_like(x, d)], axis=1)
     normals = np.tile([0.0, 0.0, -1.0], (len(x), 1))
     to_world = mi.ScalarTransform4f().rotate([0, 0, 1], 30.0)
-    sized, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world}, points,
-                   normals)
+    sized, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world, **extra},
+                   points, normals, spp=spp)
     point, _ = lux({"type": "ieslight", "filename": path, "to_world": to_world,
                     "opening": "point"}, points, normals, spp=1)
-    np.testing.assert_allclose(sized, point, rtol=RTOL_FAR)
+    return sized, point
 
 
 @pytest.mark.parametrize("opening", [(0.2, 0.5, 0.0), (0.2, 0.5, 0.3)],
@@ -130,10 +137,17 @@ def test_flux_through_a_closed_box(variant_rgb, tmp_path, opening):
     the file's flux."""
     from spectrace.photometry import read_photometry
 
+    path = washer_file(tmp_path, opening)
+    flux = flux_through_closed_box({"type": "ieslight", "filename": path})
+    assert flux == pytest.approx(read_photometry(path).flux, rel=RTOL_FLUX)
+
+
+def flux_through_closed_box(light: dict, half: float = 0.8) -> float:
+    """The flux (lm) that ``light`` sends through the closed box [-half, half]^3: the
+    Gauss-Legendre quadrature (FLUX_NODES per axis) of the inward illuminance over its
+    six faces."""
     from spectrace.validation.reference import gauss_legendre_grid
 
-    path = washer_file(tmp_path, opening)
-    half = 0.8
     points, normals, weights = [], [], []
     for axis in range(3):
         others = [k for k in range(3) if k != axis]
@@ -146,10 +160,8 @@ def test_flux_through_a_closed_box(variant_rgb, tmp_path, opening):
             points.append(p)
             normals.append(n)
             weights.append(w)
-    E, _ = lux({"type": "ieslight", "filename": path}, np.concatenate(points),
-               np.concatenate(normals), spp=512)
-    flux = float(np.sum(E * np.concatenate(weights)))
-    assert flux == pytest.approx(read_photometry(path).flux, rel=RTOL_FLUX)
+    E, _ = lux(light, np.concatenate(points), np.concatenate(normals), spp=512)
+    return float(np.sum(E * np.concatenate(weights)))
 
 
 @pytest.mark.parametrize("variant_name", COLOUR_VARIANTS)
@@ -159,7 +171,6 @@ def test_meter_sees_intensity_over_projected_area(tmp_path, variant_name, openin
     """A radiance meter looking at the opening (on its shape) sees the luminance
     L = I(omega) / A_proj(omega) of the file's intensity in the meter's direction omega
     (L_v = K_m integral V L_e, from the film's Y), in RGB, spectral and mono."""
-    import mitsuba as mi
     from spectrace.photometry import read_photometry
     from spectrace.plugins.emitters import sized
 
@@ -180,22 +191,30 @@ def test_meter_sees_intensity_over_projected_area(tmp_path, variant_name, openin
     expected = read_photometry(path).intensity(np.degrees(gamma), np.degrees(c)) / area
     scene = sized.expand_dict({"type": "scene", "light": {"type": "ieslight",
                                                           "filename": path}})
-    scene["integrator"] = {"type": "path", "max_depth": 1}
+    assert meter_luminance(scene, omega, 1024) == pytest.approx(float(expected),
+                                                             rel=RTOL_RADIANCE)
+
+
+def meter_luminance(scene: dict, omega, spp: int) -> float:
+    """The luminance (cd/m^2, K_m integral V L_e from the film's Y) that a radiance meter
+    3 m away along ``omega``, looking back at the origin, sees in ``scene`` (a dict)."""
+    import mitsuba as mi
+
+    scene = {**scene, "integrator": {"type": "path", "max_depth": 1}}
     scene["sensor"] = {
         "type": "radiancemeter", "origin": list(3.0 * omega), "direction": list(-omega),
         "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "luminance",
                  "rfilter": {"type": "box"}},
-        "sampler": {"type": "independent", "sample_count": 1024},
+        "sampler": {"type": "independent", "sample_count": spp},
     }
     Y = float(np.array(mi.render(mi.load_dict(scene)), dtype=np.float64).ravel()[0])
-    assert checks.KM * checks.CIE_Y_INTEGRAL * Y == pytest.approx(float(expected),
-                                                                   rel=RTOL_RADIANCE)
+    return checks.KM * checks.CIE_Y_INTEGRAL * Y
 
 
 REF = (0.1, -0.2, 0.3)
 
 
-@pytest.mark.parametrize("opening", ["box", "rectangle", "disk", "sphere"])
+@pytest.mark.parametrize("opening", ["box", "rectangle", "disk", "sphere", "cylinder"])
 def test_sample_direction_chi2(variant_rgb, tmp_path, opening):
     """The directions that ``sample_direction`` draws towards an opening follow the
     density that ``pdf_direction`` reports for the hit the integrators build (mitsuba.chi2;
@@ -206,7 +225,8 @@ def test_sample_direction_chi2(variant_rgb, tmp_path, opening):
 
     sizes = {"box": {"width": 0.3, "length": 0.5, "height": 0.2},
              "rectangle": {"width": 0.3, "length": 0.5}, "disk": {"diameter": 0.5},
-             "sphere": {"diameter": 0.4}}[opening]
+             "sphere": {"diameter": 0.4},
+             "cylinder": {"diameter": 0.3, "height": 0.4}}[opening]
     to_world = mi.ScalarTransform4f().translate([0.2, 0.1, 0.0]).rotate([0.6, 0.8, 0], 20.0)
     light = {"type": "ieslight", "filename": washer_file(tmp_path), "opening": opening,
              "to_world": to_world, **sizes}
@@ -258,6 +278,8 @@ def test_point_keeps_the_delta_light(variant_rgb, tmp_path):
     ({"opening": "file", "width": 0.1}, "'width'"),
     ({"opening": "point", "diameter": 0.1}, "'diameter'"),
     ({"opening": "disk", "diameter": 0.1, "height": 0.1}, "'height'"),
+    ({"opening": "cylinder", "diameter": 0.1}, "'height'"),
+    ({"opening": "cylinder", "diameter": 0.1, "height": 0.0}, "'height'"),
 ])
 def test_bad_openings_fail_with_one_line(variant_rgb, tmp_path, params, expected):
     """An unknown opening, a negative, NaN or zero size, a missing size or a size that the
@@ -295,15 +317,17 @@ def test_cli_bad_opening_exits_2(variant_rgb, tmp_path):
     assert not out.exists()
 
 
-def test_sample_ray_weights_average_to_the_flux(variant_rgb, tmp_path):
-    """The rays that ``sample_ray`` draws from a box opening (uniform on its surface,
-    cosine about the normal) carry on average the file's flux: mean weight = Phi_e =
+@pytest.mark.parametrize("extra", [{}, {"opening": "cylinder", "diameter": 0.3, "height": 0.4}],
+                         ids=["box", "cylinder"])
+def test_sample_ray_weights_average_to_the_flux(variant_rgb, tmp_path, extra):
+    """The rays that ``sample_ray`` draws from a box or cylinder opening (uniform on its
+    surface, cosine about the normal) carry on average the file's flux: mean weight = Phi_e =
     Phi_v / (K_m integral V) for a white light (N_RAYS rays)."""
     import mitsuba as mi
     from spectrace.photometry import read_photometry
 
     path = washer_file(tmp_path, (0.2, 0.5, 0.3))
-    light = mi.load_dict({"type": "ieslight", "filename": path})
+    light = mi.load_dict({"type": "ieslight", "filename": path, **extra})
     rng = np.random.default_rng(3)
     u = rng.random((5, N_RAYS))
     _, weight = light.sample_ray(0.0, mi.Float(u[0]), mi.Point2f(u[1], u[2]),
@@ -424,3 +448,83 @@ def test_a_file_shape_it_does_not_render_is_refused(variant_rgb, tmp_path):
     assert "\n" not in str(error.value) and "'opening'" in str(error.value)
     for params in ({"opening": "point"}, {"opening": "disk", "diameter": 0.3}):
         mi.load_dict({"type": "ieslight", "filename": path, **params})
+
+
+# -- the cylinder opening (a closed mesh made at load) ------------------------------------------
+
+CYLINDER = {"opening": "cylinder", "diameter": 0.3, "height": 0.4}
+
+
+def test_cylinder_far_field_is_the_point_law(variant_rgb, tmp_path):
+    """Far away (400 times its size: its caps lie h/2 from the photometric centre, a
+    first-order error h/d like the box's) a closed cylinder opening lights a plane as its
+    point version to within 0.5%."""
+    # Area sampling: the weights vary with the cosine on the side, hence more samples.
+    sized, point = far_field_lux(washer_file(tmp_path), CYLINDER, 400 * 0.4, spp=2**17)
+    np.testing.assert_allclose(sized, point, rtol=RTOL_FAR)
+
+
+def test_cylinder_flux_through_a_closed_box(variant_rgb, tmp_path):
+    """All the file's flux leaves the closed cylinder (its side and both caps, one mesh)
+    through a closed box around it (Gauss-Legendre quadrature over the box's faces), to
+    within 0.5%."""
+    from spectrace.photometry import read_photometry
+
+    path = washer_file(tmp_path)
+    flux = flux_through_closed_box({"type": "ieslight", "filename": path, **CYLINDER})
+    assert flux == pytest.approx(read_photometry(path).flux, rel=RTOL_FLUX)
+
+
+def test_cylinder_is_one_mesh_seen_with_its_luminance(variant_rgb, tmp_path):
+    """The cylinder is carried by ONE closed mesh whose area is the cylinder's (to 1e-3,
+    256 sides), and a radiance meter looking at its side at gamma = 60 degrees sees
+    L = I(omega) / (2 r h sin(gamma) + pi r^2 |cos(gamma)|)."""
+    import mitsuba as mi
+    from spectrace.photometry import read_photometry
+    from spectrace.plugins.emitters import sized
+
+    path = washer_file(tmp_path)
+    r, h = 0.15, 0.4
+    scene = sized.expand_dict({"type": "scene", "light": {"type": "ieslight",
+                                                          "filename": path, **CYLINDER}})
+    (shape,) = [v for v in scene.values() if isinstance(v, mi.Mesh)]
+    assert float(shape.surface_area()[0]) == pytest.approx(2 * np.pi * r * (h + r), rel=1e-3)
+    gamma, c = np.radians(60.0), np.radians(20.0)
+    omega = np.array([np.sin(gamma) * np.cos(c), -np.sin(gamma) * np.sin(c), np.cos(gamma)])
+    area = 2 * r * h * np.sin(gamma) + np.pi * r * r * abs(np.cos(gamma))
+    expected = read_photometry(path).intensity(np.degrees(gamma), np.degrees(c)) / area
+    assert meter_luminance(scene, omega, 64) == pytest.approx(float(expected),
+                                                             rel=RTOL_RADIANCE)
+
+
+def test_file_vertical_cylinder_is_the_cylinder_opening(variant_rgb, tmp_path):
+    """An LM-63-2002 file whose opening is a vertical cylinder (width = length < 0,
+    height > 0) renders it with ``opening`` 'file': its A_proj seen along gamma = 90
+    degrees is the side's 2 r h, along gamma = 0 the cap's pi r^2."""
+    import mitsuba as mi
+
+    light = mi.load_dict({"type": "ieslight",
+                          "filename": lambertian_file(tmp_path, (-0.3, -0.3, 0.2))})
+    side = light.projected_area(mi.Vector3f(1.0, 0.0, 0.0))
+    cap = light.projected_area(mi.Vector3f(0.0, 0.0, 1.0))
+    assert float(side[0]) == pytest.approx(0.3 * 0.2, rel=1e-6)
+    assert float(cap[0]) == pytest.approx(np.pi * 0.15**2, rel=1e-6)
+
+
+def test_xml_cylinder_stays_an_unseen_light(variant_rgb, tmp_path):
+    """In an XML scene a cylinder opening is not put on a shape (its mesh is made by
+    ``sized.expand_dict`` only): the light loads unattached, with no shape and no
+    visible luminaire."""
+    from spectrace.lighting.glare import has_visible_lights
+    from spectrace.scene import load_scene
+
+    washer_file(tmp_path)
+    scene_path = tmp_path / "cylinder.xml"
+    scene_path.write_text(
+        '<scene version="3.0.0"><integrator type="direct"/><sensor type="perspective"/>'
+        '<emitter type="ieslight"><string name="filename" value="washer.ies"/>'
+        '<string name="opening" value="cylinder"/><float name="diameter" value="0.3"/>'
+        '<float name="height" value="0.4"/></emitter></scene>')
+    scene = load_scene(scene_path)
+    assert len(scene.shapes()) == 0 and scene.emitters()[0].get_shape() is None
+    assert not has_visible_lights(scene)

@@ -1,7 +1,8 @@
 """Tests of the lights with a size (``plugins/emitters/sized.py``: ``source_radius`` of
 ``pointlight`` and ``spotlight``, their expansion into shapes): far field, near field
 against closed forms (Howell's sphere, the disk on its axis), the penumbra of a straight
-edge, the luminance seen by a camera, light tracing, variants and bad input."""
+edge under a sphere and a disk, the luminance seen by a camera, light tracing, variants
+and bad input."""
 
 from __future__ import annotations
 
@@ -154,37 +155,64 @@ def test_disk_on_its_axis(variant_rgb, h):
                                                                             rel=RTOL_MC)
 
 
+#: The straight-edge scenes: the light's and the edge's heights, the light's radius (m).
+EDGE_HEIGHT_LIGHT, EDGE_HEIGHT, EDGE_RADIUS = 2.0, 1.0, 0.2
+
+
+def render_edge_profile(light: dict, res: int = 64, half: float = 0.5):
+    """The floor's rendered radiance across the shadow of a half-plane (x < 0, height
+    EDGE_HEIGHT) under ``light``, seen by an orthographic camera below the edge: (x, profile)."""
+    import mitsuba as mi
+    from spectrace.plugins.emitters import sized
+
+    T = checks.transform()
+    scene = checks.plane_scene(light, "direct", res=res)
+    scene["sensor"]["to_world"] = T.look_at([0, 0.05, 0], [0, 0, 0], [0, 0, 1]).scale(
+        [half, half, 1])
+    scene["sensor"]["sampler"] = {"type": "independent", "sample_count": 64}
+    scene["edge"] = {"type": "rectangle", "to_world": T.translate([-5, EDGE_HEIGHT, 0])
+                     @ T.rotate([1, 0, 0], 90).scale(5),
+                     "bsdf": {"type": "diffuse", "reflectance": 0.0}}
+    image = np.array(mi.render(mi.load_dict(sized.expand_dict(scene)), seed=1))[..., 0]
+    # The film's x runs along world -x (camera up +z, looking down): flip to world x.
+    x = (np.arange(res) + 0.5) / res * 2 * half - half
+    return x, image.mean(axis=0)[::-1]
+
+
+def check_penumbra(x, profile, free, shadowed):
+    """The rendered fractions 10/50/90 % where the oracle's ``shadowed`` / ``free`` puts
+    them (within PENUMBRA_PIXELS), dark before the similar-triangle umbra edge x = -r h_e /
+    (h_l - h_e), fully lit after x = +r h_e / (h_l - h_e)."""
+    free, shadowed = np.asarray(free), np.asarray(shadowed)
+    fraction_oracle = shadowed / free
+    scale = profile[-8:].mean() / free[-8:].mean()
+    fraction = profile / (scale * free)
+    pixel = x[1] - x[0]
+    for level in (0.1, 0.5, 0.9):
+        at = np.interp(level, fraction, x)
+        expected = np.interp(level, fraction_oracle, x)
+        assert abs(at - expected) <= PENUMBRA_PIXELS * pixel, (level, at, expected)
+    end = EDGE_RADIUS * EDGE_HEIGHT / (EDGE_HEIGHT_LIGHT - EDGE_HEIGHT)
+    assert np.all(fraction[x < -end - pixel] < 0.02)
+    assert np.all(fraction[x > end + pixel] > 0.97)
+
+
 def test_penumbra_of_a_straight_edge(variant_rgb):
     """The shadow on the floor of a half-plane (x < 0, height 1) under a sphere light
     (radius 0.2, height 2): the fractions 10/50/90 % of the unshadowed irradiance fall
     where a quadrature of the visible part of the sphere puts them (within 2 pixels);
     dark before the similar-triangle umbra edge x = -0.2, fully lit after x = +0.2."""
-    import mitsuba as mi
-    from spectrace.plugins.emitters import sized
-
-    res, half, height_light, height_edge, radius = 64, 0.5, 2.0, 1.0, 0.2
-    T = checks.transform()
-    light = sphere_light(position=(0.0, height_light, 0.0), radius=radius)
-    scene = checks.plane_scene(light, "direct", res=res)
-    scene["sensor"]["to_world"] = T.look_at([0, 0.05, 0], [0, 0, 0], [0, 0, 1]).scale(
-        [half, half, 1])
-    scene["sensor"]["sampler"] = {"type": "independent", "sample_count": 64}
-    scene["edge"] = {"type": "rectangle", "to_world": T.translate([-5, height_edge, 0])
-                     @ T.rotate([1, 0, 0], 90).scale(5),
-                     "bsdf": {"type": "diffuse", "reflectance": 0.0}}
-    image = np.array(mi.render(mi.load_dict(sized.expand_dict(scene)), seed=1))[..., 0]
-    # The film's x runs along world -x (camera up +z, looking down): flip to world x.
-    profile = image.mean(axis=0)[::-1]
-    x = (np.arange(res) + 0.5) / res * 2 * half - half
+    light = sphere_light(position=(0.0, EDGE_HEIGHT_LIGHT, 0.0), radius=EDGE_RADIUS)
+    x, profile = render_edge_profile(light)
 
     # Oracle: the cone of the sphere from each floor point, midpoint rule, numpy only.
     n = 400
     u = (np.arange(n) + 0.5) / n
     free, shadowed = [], []
     for xi in x:
-        c = np.array([-xi, height_light, 0.0])
+        c = np.array([-xi, EDGE_HEIGHT_LIGHT, 0.0])
         dist = np.linalg.norm(c)
-        cos_m = np.sqrt(1 - (radius / dist) ** 2)
+        cos_m = np.sqrt(1 - (EDGE_RADIUS / dist) ** 2)
         cos_t = 1 - u[:, None] * (1 - cos_m)
         sin_t = np.sqrt(1 - cos_t**2)
         phi = 2 * np.pi * u[None, :]
@@ -195,20 +223,39 @@ def test_penumbra_of_a_straight_edge(variant_rgb):
         d = (sin_t * np.cos(phi))[..., None] * e1 + (sin_t * np.sin(phi))[..., None] * e2 \
             + cos_t[..., None] * axis
         cos_floor = d[..., 1]
-        x_edge = xi + d[..., 0] * height_edge / d[..., 1]
+        x_edge = xi + d[..., 0] * EDGE_HEIGHT / d[..., 1]
         free.append(np.sum(cos_floor))
         shadowed.append(np.sum(cos_floor * (x_edge >= 0)))
-    fraction_oracle = np.array(shadowed) / np.array(free)
-    scale = profile[-8:].mean() / np.array(free)[-8:].mean()
-    fraction = profile / (scale * np.array(free))
+    check_penumbra(x, profile, free, shadowed)
 
-    pixel = 2 * half / res
-    for level in (0.1, 0.5, 0.9):
-        at = np.interp(level, fraction, x)
-        expected = np.interp(level, fraction_oracle, x)
-        assert abs(at - expected) <= PENUMBRA_PIXELS * pixel, (level, at, expected)
-    assert np.all(fraction[x < -0.2 - pixel] < 0.02)
-    assert np.all(fraction[x > 0.2 + pixel] > 0.97)
+
+def test_penumbra_of_a_straight_edge_under_a_disk(variant_rgb):
+    """The same edge under a disk spot facing down (radius 0.2, height 2; quadratic cone,
+    umbra 90 degrees: I = I0 cos^2, so L = I0 cos(gamma) / (pi r^2)): the 10/50/90 %
+    points where a quadrature over the disk's area of L cos^2 / t^2 (cos(gamma) =
+    h / t on both the disk and the floor) puts them, dark before x = -0.2 and fully lit
+    after x = +0.2 (similar triangles)."""
+    T = checks.transform()
+    light = {"type": "spotlight", "intensity": INTENSITY, "umbra_angle": 90.0,
+             "penumbra_angle": 0.01, "source_radius": EDGE_RADIUS,
+             "to_world": T.look_at([0, EDGE_HEIGHT_LIGHT, 0], [0, 0, 0], [0, 0, 1])}
+    x, profile = render_edge_profile(light)
+
+    # Oracle: the disk's area in polar cells (equal areas in rho^2), numpy only.
+    n = 400
+    u = (np.arange(n) + 0.5) / n
+    rho = EDGE_RADIUS * np.sqrt(u)[:, None]
+    phi = 2 * np.pi * u[None, :]
+    qx = rho * np.cos(phi)
+    qz = rho * np.sin(phi)
+    free, shadowed = [], []
+    for xi in x:
+        t2 = (qx - xi) ** 2 + EDGE_HEIGHT_LIGHT**2 + qz**2
+        weight = EDGE_HEIGHT_LIGHT**3 / t2**2.5  # cos(gamma) L cos cos / t^2, constants off
+        x_edge = xi + (qx - xi) * EDGE_HEIGHT / EDGE_HEIGHT_LIGHT
+        free.append(np.sum(weight))
+        shadowed.append(np.sum(weight * (x_edge >= 0)))
+    check_penumbra(x, profile, free, shadowed)
 
 
 # -- seen by the camera ------------------------------------------------------------------------

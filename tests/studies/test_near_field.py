@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from spectrace.errors import ParameterError
 from spectrace.studies import near_field as study
 
 #: Measured (2^14 light samples) against closed-form ratios E_point / E.
@@ -67,3 +68,63 @@ def test_rectangle_corner_factor_against_quadrature():
     assert study.point_error_rectangle(5.0, 1.0) == pytest.approx(0.0133, abs=1e-4)
     assert study.point_error_rectangle(5.0, 10.0) == pytest.approx(0.0067, abs=1e-4)
     assert study.under_one_percent("lambertian_rectangle", aspect=10.0) < 5.0
+
+
+def _lambert_polygon(vertices, point, normal):
+    """E / L of a uniform polygon wholly above the receiver's horizon by Lambert's contour
+    formula, (1/2) sum_i theta_i n . (v_i x v_i+1) / |v_i x v_i+1| (v the unit vectors
+    to the vertices, theta_i the angle between consecutive ones)."""
+    v = np.asarray(vertices, np.float64) - point
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    total = 0.0
+    for a, b in zip(v, np.roll(v, -1, axis=0), strict=True):
+        cross = np.cross(a, b)
+        total += np.arccos(np.clip(a @ b, -1, 1)) * (cross @ normal) / np.linalg.norm(cross)
+    return abs(total) / 2
+
+
+def _box_lambert(dims, point, normal):
+    """The visible faces of a box centred at the origin, each by :func:`_lambert_polygon`."""
+    half = np.asarray(dims, np.float64) / 2
+    total = 0.0
+    for axis in range(3):
+        for sign in (-1, 1):
+            if sign * point[axis] <= half[axis]:
+                continue
+            i, j = [k for k in range(3) if k != axis]
+            corners = []
+            for si, sj in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                q = np.zeros(3)
+                q[axis], q[i], q[j] = sign * half[axis], si * half[i], sj * half[j]
+                corners.append(q)
+            total += _lambert_polygon(corners, point, normal)
+    return total
+
+
+@pytest.mark.parametrize("dims, direction", [((1, 1, 1), (0, 0, -1)), ((1, 1, 1), (1, 1, -1)),
+                                             ((2, 1, 1), (1, 0.5, -0.3))])
+def test_box_irradiance_against_lambert_contour_formula(dims, direction):
+    """The face quadrature of a luminous box (uniform L on its faces) equals Lambert's
+    contour integral over its visible faces, near (2 D) and farther (6 D)."""
+    w = np.asarray(direction, np.float64) / np.linalg.norm(direction)
+    for x in (2.0, 6.0):
+        p = x * max(dims) * w
+        assert study.box_irradiance(dims, p, -w) == pytest.approx(
+            _box_lambert(dims, p, -w), rel=1e-4)
+
+
+def test_box_point_error_limits_and_one_percent_distances():
+    """Far away the box is its point (error -> 0); along a face's normal the face is D / 2
+    nearer than the photometric centre, so the error tends to -D / d (first order) and
+    1 % needs about 100 D, twenty times the five-times rule; along the diagonal the first
+    order cancels and a cube reaches 1 % near 7 D."""
+    assert abs(study.point_error_box(1e4, (2, 1, 1), (1, 1, -1))[0]) < 1e-6
+    assert study.point_error_box(200.0, (2, 1, 1), (1, 0, 0))[0] == pytest.approx(
+        -1 / 200, rel=0.01)
+    assert study.point_error_box(5.0, (1, 1, 1))[0] == pytest.approx(-0.177, abs=1e-3)
+    assert study.under_one_percent("box", dims=(1, 1, 1), direction=(0, 0, -1)) == \
+        pytest.approx(99.4, abs=0.5)
+    assert 5.0 < study.under_one_percent("box", dims=(1, 1, 1), direction=(1, 1, -1)) < 8.0
+    np.testing.assert_allclose(study.box_projected_area((2, 1, 1), (0, 0, 1)), 2.0)
+    with pytest.raises(ParameterError, match="distance_over_size"):
+        study.point_error_box(0.7, (1, 1, 1), (1, 1, -1))  # inside the cube
