@@ -152,9 +152,10 @@ or one of those with its sizes.
 As ``pointlight``'s ``source_radius`` (``spectrace help sized``), spectrace's scene loader
 puts an ``ieslight`` with an opening on a black ``rectangle``, ``disk``, ``sphere`` or
 ``cube`` of that size (``mi.load_dict`` users: ``sized.expand_dict``; a cylinder: one
-closed black ``mi.Mesh`` of 256 sides, side and caps, made by ``sized.expand_dict`` only,
-since Mitsuba's ``cylinder`` is open and an emitter has one shape: in an XML scene a
-cylinder opening stays an unseen light with the right lux): one element in the XML, a
+closed black mesh of 256 sides, side and caps, since Mitsuba's ``cylinder`` is open and
+an emitter has one shape: a ``mi.Mesh`` made by ``sized.expand_dict``, or in an XML
+scene the unit-cylinder PLY file ``sized.unit_cylinder_ply`` writes once to the user's
+cache folder, scaled): one element in the XML, a
 luminaire the camera sees with its luminance L and that BSDF-sampled rays hit
 (multiple importance sampling in ``path``, ``volpath``, ``direct``). Next-event estimation
 samples the sphere and the rectangle by the solid angle they subtend, the disk by solid

@@ -395,7 +395,11 @@ def _ies_scale(kind: str, half) -> tuple[float, float, float]:
 
 
 def _ies_shape_xml(element: ET.Element, kind: str, half) -> ET.Element:
-    shape = ET.Element("shape", type=IES_SHAPES[kind])
+    if kind == "cylinder":  # Mitsuba's own cylinder is open: the closed mesh from a file
+        shape = ET.Element("shape", type="ply")
+        ET.SubElement(shape, "string", name="filename", value=unit_cylinder_ply())
+    else:
+        shape = ET.Element("shape", type=IES_SHAPES[kind])
     transform = ET.SubElement(shape, "transform", name="to_world")
     x, y, z = (repr(float(v)) for v in _ies_scale(kind, half))
     ET.SubElement(transform, "scale", x=x, y=y, z=z)
@@ -413,8 +417,8 @@ def expand_ies_tree(root: ET.Element, values: dict[str, str] | None = None,
     """Rewrite, in place, every ``ieslight`` of ``root`` outside a ``<shape>`` whose
     opening is not a point (its ``opening``, or the file's: a relative ``filename`` is
     looked up in ``folder``) into the black rectangle, disk, sphere or cube that carries
-    it (a cylinder stays an unattached light: right lux, not seen; its mesh is made by
-    :func:`expand_ies_dict` only). Returns whether it changed anything."""
+    it (a cylinder: the closed mesh of :func:`unit_cylinder_ply`, scaled). Returns whether
+    it changed anything."""
     values = values or {}
     changed = False
     for parent in root.iter():
@@ -424,8 +428,8 @@ def expand_ies_tree(root: ET.Element, values: dict[str, str] | None = None,
             if element.tag != "emitter" or element.get("type") != "ieslight":
                 continue
             resolved = _ies_opening(_ies_values(element, values), folder)
-            if resolved is None or resolved[0] == "cylinder":
-                continue  # a cylinder stays an unattached (invisible) light in XML
+            if resolved is None:
+                continue
             parent.remove(element)
             parent.insert(index, _ies_shape_xml(element, *resolved))
             changed = True
@@ -458,6 +462,43 @@ def expand_ies_dict(scene: dict) -> dict:
                         list(_ies_scale(kind, half))),
                     "bsdf": {"type": "diffuse", "reflectance": 0.0}, "emitter": value}
     return out
+
+
+def unit_cylinder_ply() -> str:
+    """The path of the closed unit cylinder of :func:`opening.cylinder_mesh` (radius 1, z
+    from -1 to 1, CYLINDER_SEGMENTS sides) as an ASCII PLY file, which an XML scene's
+    ``<shape type="ply">`` loads: written once, atomically, to the user's cache folder
+    (``$XDG_CACHE_HOME`` or ``~/.cache``)/spectrace, or to the temporary folder when that
+    cannot be written."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    from spectrace.plugins.emitters import opening
+
+    name = f"unit_cylinder_{CYLINDER_SEGMENTS}.ply"
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    for folder in (Path(root) / "spectrace", Path(tempfile.gettempdir()) / "spectrace"):
+        path = folder / name
+        if path.is_file():
+            return str(path)
+        vertices, faces = opening.cylinder_mesh(CYLINDER_SEGMENTS)
+        lines = ["ply", "format ascii 1.0", f"element vertex {len(vertices)}",
+                 "property float x", "property float y", "property float z",
+                 f"element face {len(faces)}", "property list uchar int vertex_indices",
+                 "end_header"]
+        lines += [" ".join(f"{c:.9g}" for c in v) for v in vertices]
+        lines += ["3 " + " ".join(str(int(i)) for i in f) for f in faces]
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=folder, suffix=".ply")
+            with os.fdopen(fd, "w") as f:
+                f.write("\n".join(lines) + "\n")
+            os.replace(tmp, path)
+            return str(path)
+        except OSError:
+            continue
+    raise OSError(f"ieslight: cannot write the cylinder mesh {name} to a cache folder")
 
 
 def cylinder_shape(emitter, to_world, half):

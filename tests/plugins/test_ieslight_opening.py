@@ -511,13 +511,14 @@ def test_file_vertical_cylinder_is_the_cylinder_opening(variant_rgb, tmp_path):
     assert float(cap[0]) == pytest.approx(np.pi * 0.15**2, rel=1e-6)
 
 
-def test_xml_cylinder_stays_an_unseen_light(variant_rgb, tmp_path):
-    """In an XML scene a cylinder opening is not put on a shape (its mesh is made by
-    ``sized.expand_dict`` only): the light loads unattached, with no shape and no
-    visible luminaire."""
+def test_xml_cylinder_is_a_visible_luminaire(variant_rgb, tmp_path, monkeypatch):
+    """In an XML scene a cylinder opening is carried by the closed unit-cylinder mesh (a
+    PLY file written once to the user's cache folder) scaled to its size: one shape, the
+    light attached to it, a visible luminaire of the cylinder's area."""
     from spectrace.lighting.glare import has_visible_lights
     from spectrace.scene import load_scene
 
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     washer_file(tmp_path)
     scene_path = tmp_path / "cylinder.xml"
     scene_path.write_text(
@@ -526,5 +527,8 @@ def test_xml_cylinder_stays_an_unseen_light(variant_rgb, tmp_path):
         '<string name="opening" value="cylinder"/><float name="diameter" value="0.3"/>'
         '<float name="height" value="0.4"/></emitter></scene>')
     scene = load_scene(scene_path)
-    assert len(scene.shapes()) == 0 and scene.emitters()[0].get_shape() is None
-    assert not has_visible_lights(scene)
+    (shape,) = scene.shapes()
+    assert scene.emitters()[0].get_shape() is not None and has_visible_lights(scene)
+    r, h = 0.15, 0.4
+    assert float(shape.surface_area()[0]) == pytest.approx(2 * np.pi * r * (h + r), rel=1e-3)
+    assert len(list((tmp_path / "cache" / "spectrace").glob("unit_cylinder_*.ply"))) == 1
