@@ -114,15 +114,15 @@ def _photopic_cache():
     import hashlib
     import importlib.util
     import os
-    from pathlib import Path
+
+    from spectrace.plugins.cache import cache_folder
 
     spec = importlib.util.find_spec("colour")
     if spec is None or spec.origin is None:
         return None
     key = f"{spec.origin}:{os.stat(spec.origin).st_mtime_ns}:{PHOTOPIC}:{GRID_NM}"
-    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     digest = hashlib.sha1(key.encode()).hexdigest()[:16]
-    return Path(root) / "spectrace" / f"photopic-{digest}.npy"
+    return cache_folder() / f"photopic-{digest}.npy"
 
 
 @lru_cache(maxsize=1)
@@ -147,15 +147,12 @@ def photopic_efficiency() -> tuple[np.ndarray, np.ndarray]:
     sd = colour.colorimetry.SDS_LEFS_PHOTOPIC[PHOTOPIC]
     V = np.asarray(sd[wavelengths], dtype=np.float64)
     if cache is not None:
-        import os
-        import tempfile
+        from spectrace.images import atomic_path
 
         try:
             cache.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=cache.parent, suffix=".npy")
-            with os.fdopen(fd, "wb") as f:
+            with atomic_path(cache) as tmp, open(tmp, "wb") as f:
                 np.save(f, V)
-            os.replace(tmp, cache)
         except OSError:
             pass
     return wavelengths, V

@@ -470,35 +470,37 @@ def unit_cylinder_ply() -> str:
     ``<shape type="ply">`` loads: written once, atomically, to the user's cache folder
     (``$XDG_CACHE_HOME`` or ``~/.cache``)/spectrace, or to the temporary folder when that
     cannot be written."""
-    import os
     import tempfile
     from pathlib import Path
 
+    from spectrace.plugins.cache import cache_folder
     from spectrace.plugins.emitters import opening
 
+    from spectrace.errors import FileAccessError
+    from spectrace.images import atomic_path
+
     name = f"unit_cylinder_{CYLINDER_SEGMENTS}.ply"
-    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    for folder in (Path(root) / "spectrace", Path(tempfile.gettempdir()) / "spectrace"):
-        path = folder / name
-        if path.is_file():
-            return str(path)
-        vertices, faces = opening.cylinder_mesh(CYLINDER_SEGMENTS)
-        lines = ["ply", "format ascii 1.0", f"element vertex {len(vertices)}",
-                 "property float x", "property float y", "property float z",
-                 f"element face {len(faces)}", "property list uchar int vertex_indices",
-                 "end_header"]
-        lines += [" ".join(f"{c:.9g}" for c in v) for v in vertices]
-        lines += ["3 " + " ".join(str(int(i)) for i in f) for f in faces]
+    folders = (cache_folder(), Path(tempfile.gettempdir()) / "spectrace")
+    for folder in folders:
+        if (folder / name).is_file():
+            return str(folder / name)
+    vertices, faces = opening.cylinder_mesh(CYLINDER_SEGMENTS)
+    lines = ["ply", "format ascii 1.0", f"element vertex {len(vertices)}",
+             "property float x", "property float y", "property float z",
+             f"element face {len(faces)}", "property list uchar int vertex_indices",
+             "end_header"]
+    lines += [" ".join(f"{c:.9g}" for c in v) for v in vertices]
+    lines += ["3 " + " ".join(str(int(i)) for i in f) for f in faces]
+    for folder in folders:
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=folder, suffix=".ply")
-            with os.fdopen(fd, "w") as f:
+            with atomic_path(folder / name) as tmp, open(tmp, "w") as f:
                 f.write("\n".join(lines) + "\n")
-            os.replace(tmp, path)
-            return str(path)
+            return str(folder / name)
         except OSError:
             continue
-    raise OSError(f"ieslight: cannot write the cylinder mesh {name} to a cache folder")
+    raise FileAccessError(f"ieslight: cannot write the cylinder mesh {name} to "
+                          f"{' or '.join(str(f) for f in folders)}")
 
 
 def cylinder_shape(emitter, to_world, half):
