@@ -70,6 +70,23 @@ the integrator's AOVs, so these layers go on the RGB film as AOVs (its wavelengt
 sampling, 360-830 nm); ``spectrace.spectral_film.film_to_bands`` turns them into band
 averages.
 
+Reconstruction filter
+---------------------
+
+The film's filter is *importance sampled* (Ernst et al. 2006; pbrt-v4's and Cycles' way),
+not splatted as Mitsuba's own render loop does: each sample's position in its pixel is
+drawn from the filter f itself (each axis from |f|, tabulated at ``FILTER_NODES`` points,
+:func:`sample_filter`) with weight f / pdf, and the sample goes to its own pixel only.
+Splatting adds every channel of every sample into each pixel of the filter's footprint
+(5 x 5 for hdrfilm's default ``gaussian``), so with 8 layers (24 more channels) the film
+would cost more than the paths. Both estimate the same filtered image, int f(x - p) L(x)
+dx / int f; with filter importance sampling the pixels' noise is also independent, as
+denoisers want. A ``box`` filter is sampled exactly as Mitsuba does (uniformly in the
+pixel), so the beauty equals ``path``'s with the same seed up to float rounding; with
+another filter it equals ``path``'s within Monte Carlo noise. Films that develop their
+own samples (``specfilm``), ``sample_border`` and the scalar variants use Mitsuba's render
+loop.
+
 Details:
 
 * The emitter -> group lookup: an ``EmitterPtr`` is, in the JIT variants, the emitter's
@@ -98,10 +115,13 @@ Sources
 -------
 
 Veach (1997), *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis,
-Stanford, ch. 9 (MIS, power heuristic); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3:
+Stanford, ch. 9 (MIS, power heuristic); Ernst, Stamminger and Greiner (2006), "Filter
+importance sampling", IEEE Symposium on Interactive Ray Tracing, 125-132, and Pharr, Jakob
+and Humphreys (2023), *Physically Based Rendering*, 4th ed., sec. 8.8.3 (filter importance
+sampling); Jakob, Speierer, Roussel et al. (2022), Mitsuba 3:
 its ``path`` (C++) and ``prb`` (Python) integrators, whose sampling decisions this one
 repeats in the same order, so its beauty equals ``path``'s in expectation (and, with the
-same seed, up to float rounding in the scenes tested).
+same seed and a box filter, up to float rounding in the scenes tested).
 
 Example
 -------
@@ -139,6 +159,33 @@ AMBIENT_GROUP = "ambient"
 INDIRECT_GROUP = "indirect"
 #: ``max_depth`` -1: no limit (Mitsuba's convention: 2^32 - 1 vertices).
 UNLIMITED_DEPTH = 0xFFFFFFFF
+#: At most this many samples in one kernel (Mitsuba's limit: 2^32 - 1 lanes).
+WAVEFRONT_LIMIT = 0xFFFFFFFF
+#: Nodes of the tabulated reconstruction filter that filter importance sampling draws from.
+FILTER_NODES = 1025
+
+
+_FILTER_TABLES: dict = {}
+
+
+def sample_filter(rfilter, u):
+    """(offset, weight): filter importance sampling of a pixel's reconstruction filter f
+    (separable, radius r). Each axis of ``offset`` (in [-r, r], from the pixel centre) is
+    drawn from the 1D distribution proportional to |f|, tabulated at FILTER_NODES points
+    and linearly interpolated (``mi.ContinuousDistribution``), from one coordinate of the
+    uniform sample ``u``; ``weight`` = f(x) f(y) / (pdf(x) pdf(y)), constant up to the
+    table's interpolation and negative in a negative lobe (Lanczos, Mitchell)."""
+    key = (mi.variant(), str(rfilter))  # the filter's type and parameters
+    if key not in _FILTER_TABLES:
+        r = float(rfilter.radius())
+        f = dr.abs(rfilter.eval(dr.linspace(mi.Float, -r, r, FILTER_NODES)))
+        dr.eval(f)
+        _FILTER_TABLES[key] = mi.ContinuousDistribution(mi.ScalarVector2f(-r, r), f)
+    table = _FILTER_TABLES[key]
+    x, pdf_x = table.sample_pdf(u.x)
+    y, pdf_y = table.sample_pdf(u.y)
+    weight = rfilter.eval(x) * rfilter.eval(y) / (pdf_x * pdf_y)
+    return mi.Vector2f(x, y), dr.select(dr.isfinite(weight), weight, 0.0)
 
 
 def _mis_weight(pdf_a, pdf_b):
@@ -211,6 +258,95 @@ class LightGroups(mi.SamplingIntegrator):
         return mi.UInt32(table)
 
     # -- Mitsuba interface -----------------------------------------------------------
+
+    def render(self, scene, sensor=0, seed=0, spp=0, develop=True, evaluate=True):
+        """Mitsuba's ``SamplingIntegrator.render`` (the same wavefront, sampler calls and
+        film), except that a film's reconstruction filter other than ``box`` is importance
+        sampled instead of splatted (see "Reconstruction filter" in the module docstring).
+        Films that develop their own samples (``specfilm``), ``sample_border`` and the
+        scalar variants go to Mitsuba's own ``render``."""
+        if isinstance(sensor, int):
+            sensor = scene.sensors()[sensor]
+        film = sensor.film()
+        if (not dr.is_jit_v(mi.Float) or film.sample_border()
+                or mi.has_flag(film.flags(), mi.FilmFlags.Special)):
+            return super().render(scene, sensor, seed, spp, develop, evaluate)
+        n_channels = film.prepare(self.aov_names())
+        sampler = sensor.sampler()
+        if spp:
+            sampler.set_sample_count(spp)
+        spp = sampler.sample_count()
+        size = film.crop_size()
+        pixels = int(size[0]) * int(size[1])
+        per_pass = spp
+        while pixels * per_pass > WAVEFRONT_LIMIT:  # Mitsuba's 2^32 samples per kernel
+            per_pass = next(d for d in range(per_pass - 1, 0, -1) if spp % d == 0)
+        sampler.set_samples_per_wavefront(per_pass)
+        sampler.seed(seed, pixels * per_pass)
+        block = mi.ImageBlock(size, film.crop_offset(), n_channels)  # one pixel a sample
+        idx = dr.arange(mi.UInt32, pixels * per_pass)
+        shift = per_pass.bit_length() - 1
+        if per_pass == 1 << shift:
+            idx >>= dr.opaque(mi.UInt32, shift)
+        else:
+            idx //= dr.opaque(mi.UInt32, per_pass)
+        pos = mi.Vector2i()
+        pos.y = mi.Int32(idx // int(size[0]))
+        pos.x = mi.Int32(idx) - int(size[0]) * pos.y
+        pos += mi.Vector2i(film.crop_offset())
+        for i in range(spp // per_pass):
+            self._render_sample(scene, sensor, sampler, block, mi.Vector2f(pos),
+                                1.0 / math.sqrt(spp))
+            if i + 1 < spp // per_pass:
+                sampler.advance()
+                sampler.schedule_state()
+                dr.eval(block.tensor())
+        film.put_block(block)
+        result = None
+        if develop:
+            result = film.develop()
+            dr.schedule(result)
+        else:
+            film.schedule_storage()
+        if evaluate:
+            dr.eval()
+            dr.sync_thread()
+        return result if develop else mi.TensorXf()
+
+    def _render_sample(self, scene, sensor, sampler, block, pos, diff_scale):
+        """One sample per wavefront lane, in the order of Mitsuba's ``render_sample``."""
+        film = sensor.film()
+        rfilter = film.rfilter()
+        u = sampler.next_2d()
+        if rfilter.is_box_filter():  # uniform in the pixel, as Mitsuba's render
+            offset, weight = u, mi.Float(1.0)
+        else:
+            offset, weight = sample_filter(rfilter, u)
+            offset += 0.5
+        scale = 1.0 / mi.ScalarVector2f(film.crop_size())
+        adjusted = (pos + offset - mi.ScalarVector2f(film.crop_offset())) * scale
+        aperture = sampler.next_2d() if sensor.needs_aperture_sample() else mi.Point2f(0.5)
+        time = mi.Float(sensor.shutter_open())
+        if sensor.shutter_open_time() > 0.0:
+            time += sampler.next_1d() * sensor.shutter_open_time()
+        wavelength = sampler.next_1d() if mi.is_spectral else mi.Float(0.0)
+        ray, ray_weight = sensor.sample_ray_differential(time, wavelength, adjusted, aperture)
+        if ray.has_differentials:
+            ray.scale_differential(diff_scale)
+        L, valid, aovs = self.sample(scene, sampler, ray, None, True)  # no media (as path)
+        L = ray_weight * L
+        if mi.is_spectral:
+            rgb = mi.spectrum_to_srgb(L, ray.wavelengths, True)
+        elif mi.is_monochromatic:
+            rgb = mi.Color3f(L[0])
+        else:
+            rgb = L
+        values = [rgb[0], rgb[1], rgb[2]]
+        if mi.has_flag(film.flags(), mi.FilmFlags.Alpha):
+            values.append(dr.select(valid, 1.0, 0.0))
+        values = [weight * v for v in (*values, 1.0, *aovs)]  # the last base channel: W
+        block.put(pos + 0.5, values)
+
 
     def sample(self, scene, sampler, ray, medium=None, active=True):
         n_groups = len(self.names)
