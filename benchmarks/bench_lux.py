@@ -3,7 +3,9 @@ against the physical floor (numpy E = I cos / r^2) and, where ``pyradiance`` is 
 Radiance's ``rtrace -I -ab 0`` on the same points.
 
 A floor 12 m square lit by scenes/luminaires/downlight.ies (800 lm, 25 degree beam) aimed
-straight down from 2.5 m, a work plane at 0.8 m: a 13 x 13 and a 512 x 512 grid of points
+straight down from 2.5 m, as a point source (``opening`` ``point``: the file's 60 mm
+opening would make it an area light, sampled; ``rtrace -ds 0`` also treats its source as
+a point), a work plane at 0.8 m: a 13 x 13 and a 512 x 512 grid of points
 over 6 m x 6 m, written to CSV (``x,y,z,nx,ny,nz``) as ``spectrace lux --points`` and
 ``rtrace`` read them. Timed, each the median of ``--repeats`` runs in one run of this
 script:
@@ -69,6 +71,7 @@ SCENE = f"""<scene version="3.0.0">
     </shape>
     <emitter type="ieslight">
         <string name="filename" value="{IES}"/>
+        <string name="opening" value="point"/>
         <transform name="to_world"><lookat origin="0, {HEIGHT}, 0" target="0, 0, 0"
             up="0, 0, 1"/></transform>
     </emitter>

@@ -60,10 +60,14 @@ def read_points_table(path) -> tuple[np.ndarray, np.ndarray, list[str]]:
         text = path.read_text(encoding="utf-8-sig")
     except OSError as e:
         raise FileAccessError(f"cannot read points file {path}: {e.strerror or e}") from None
+    plain = _read_plain(text)
+    if plain is not None:
+        data, rows = plain
+        return data[:, :3], data[:, 3:], rows
     lines = text.splitlines()
     first = _first_data_line(lines)
     header = first > 0 and not _is_numeric_row(lines[first - 1])
-    try:  # the fast path: numpy's parser
+    try:  # numpy's parser
         with warnings.catch_warnings():  # an empty file: "input contained no data"
             warnings.simplefilter("ignore", UserWarning)
             data = np.loadtxt(lines[first:] if header else lines, delimiter=",",
@@ -75,9 +79,35 @@ def read_points_table(path) -> tuple[np.ndarray, np.ndarray, list[str]]:
         _check_lines(path, lines, first if header else 0)
     if data.size == 0:
         raise FileFormatError(f"{path}: no points (one line x,y,z,nx,ny,nz per point)")
-    rows = [r.replace(" ", "") for r in (line.split("#", 1)[0].strip()
-                                         for line in lines[first if header else 0:]) if r]
+    body = lines[first if header else 0:]
+    rows = [r.replace(" ", "").replace("\t", "")
+            for r in (line.split("#", 1)[0].strip() for line in body) if r]
     return data[:, :3], data[:, 3:], rows
+
+
+def _read_plain(text: str):
+    """The points of a file without comments, tabs or blank lines inside (an optional
+    header line, then one ``x,y,z,nx,ny,nz`` line per point), as (an (N, 6) array, the
+    text of each line); None for any other file, which the general reader then reads
+    (and names the line at fault). The common case in one pass of numpy's parser, with no
+    Python loop per line (a 512 x 512 grid: about 0.1 s)."""
+    if "#" in text or "\t" in text or "\r" in text:
+        return None
+    head, _, body = text.partition("\n")
+    if not _is_numeric_row(head):
+        text = body
+    rows = text.replace(" ", "").split("\n")
+    if rows and not rows[-1]:
+        rows.pop()  # the file's last newline
+    if not rows or not all(rows):
+        return None
+    try:
+        data = np.loadtxt(rows, delimiter=",", ndmin=2, dtype=np.float64)
+    except ValueError:
+        return None
+    if data.shape != (len(rows), len(INPUT_COLUMNS)) or not np.all(np.isfinite(data)):
+        return None
+    return data, rows
 
 
 def _is_numeric_row(line: str) -> bool:
@@ -132,12 +162,16 @@ def write_points_csv(path, points, vectors, values, stderr, columns=OUTPUT_COLUM
                                 np.asarray(values, np.float64), np.asarray(stderr, np.float64)])
         write_csv(path, columns, data)
         return
+    if len(rows) != len(values):
+        raise ParameterError(f"{len(rows)} rows of text for {len(values)} values")
     fmt = f"%.{CSV_DIGITS}g"
-    results = ((f"{fmt},{fmt}\n" * len(rows)) % tuple(
-        np.column_stack([values, stderr]).astype(np.float64).ravel().tolist())).splitlines()
+    cells = [None] * (3 * len(rows))  # row, value, error, row, ...: one % for the file
+    cells[0::3] = rows
+    cells[1::3] = np.asarray(values, np.float64).tolist()
+    cells[2::3] = np.asarray(stderr, np.float64).tolist()
     with atomic_path(path) as tmp, open(tmp, "w") as f:
         f.write(",".join(columns) + "\n")
-        f.write("\n".join(f"{r},{v}" for r, v in zip(rows, results, strict=True)) + "\n")
+        f.write((f"%s,{fmt},{fmt}\n" * len(rows)) % tuple(cells))
 
 
 def write_csv(path, columns, data: np.ndarray) -> None:

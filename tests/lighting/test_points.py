@@ -142,11 +142,32 @@ def test_csv_round_trip(tmp_path):
     assert out.read_text().splitlines()[1].startswith("0,0.8,0,0,1,0,123.456789,0")
 
 
+@pytest.mark.parametrize("text", [
+    "x,y,z,nx,ny,nz\n0,0.8,0, 0,1,0\n1.5,0.8,-2,1,0,0\n",  # plain: the one-pass reader
+    "0,0.8,0, 0,1,0\n1.5,0.8,-2,1,0,0",  # plain, no header, no last newline
+    "x,y,z,nx,ny,nz\r\n0,0.8,0, 0,1,0\r\n1.5,0.8,-2,1,0,0\r\n",  # CRLF: the general one
+    "0,0.8,0,\t0,1,0\n\n1.5,0.8,-2,1,0,0 # two\n",  # a tab, a blank line, a comment
+])
+def test_plain_and_general_files_read_alike(tmp_path, text):
+    """Whichever reader a file takes (the one-pass reader of plain files or the general
+    one), the points, vectors and echoed rows are the same."""
+    from spectrace.lighting.points import read_points_table
+
+    path = tmp_path / "points.csv"
+    path.write_bytes(text.encode())
+    p, n, rows = read_points_table(path)
+    np.testing.assert_array_equal(p, [[0, 0.8, 0], [1.5, 0.8, -2]])
+    np.testing.assert_array_equal(n, [[0, 1, 0], [1, 0, 0]])
+    assert rows == ["0,0.8,0,0,1,0", "1.5,0.8,-2,1,0,0"]
+
+
 @pytest.mark.parametrize(("text", "message"), [
     ("x,y,z,nx,ny,nz\n0,0,0,0,1\n", "line 2: expected six finite numbers"),
     ("0,0,0,0,1,0\n0,0,zero,0,1,0\n", "line 2: expected six numbers"),
     ("x,y,z\n", "no points"),
     ("0,0,nan,0,1,0\n", "line 1: expected six finite numbers"),
+    ("0,0,0,0,1,0\n0,0,inf,0,1,0\n", "line 2: expected six finite numbers"),
+    ("0,0,0,0,1,0,7\n", "line 1: expected six finite numbers"),
 ])
 def test_bad_points_files(tmp_path, text, message):
     """A line without six finite numbers fails with one line naming the file and line."""
