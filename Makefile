@@ -17,7 +17,7 @@ GALLERY ?= docs/gallery
 # JupyterLab refuses to start as root unless told to (these machines run as root).
 LAB_FLAGS ?= $(if $(filter 0,$(shell id -u)),--allow-root,)
 
-.PHONY: render test bench validate setup libllvm doctor gallery studies lab clean
+.PHONY: render test bench validate setup libllvm bytecode doctor gallery studies lab clean
 
 render: setup
 	$(BIN)/spectrace render $(SCENE) -o $(OUT)
@@ -35,10 +35,17 @@ validate: setup
 doctor: setup
 	$(BIN)/spectrace doctor
 
-setup: $(STAMP) libllvm
+setup: $(STAMP) libllvm bytecode
 
 libllvm: $(STAMP)
 	@$(BIN)/python -m spectrace.llvm
+
+# The project's own modules compiled to __pycache__ (only those changed since): pip compiles
+# what it installs, not an editable install's sources, and where PYTHONDONTWRITEBYTECODE is
+# set (as on these machines) every command would compile them again at start-up (about
+# 0.15 s of each command's 0.45 s).
+bytecode: $(STAMP)
+	@$(BIN)/python -m compileall -q spectrace plugins photometry spectral
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)

@@ -165,13 +165,18 @@ def write_points_csv(path, points, vectors, values, stderr, columns=OUTPUT_COLUM
     if len(rows) != len(values):
         raise ParameterError(f"{len(rows)} rows of text for {len(values)} values")
     fmt = f"%.{CSV_DIGITS}g"
-    cells = [None] * (3 * len(rows))  # row, value, error, row, ...: one % for the file
-    cells[0::3] = rows
-    cells[1::3] = np.asarray(values, np.float64).tolist()
-    cells[2::3] = np.asarray(stderr, np.float64).tolist()
+    stderr = np.asarray(stderr, np.float64)
+    exact = not np.any(stderr)  # every error 0 (exact lights): written as it reads, 0
+    per_row = 2 if exact else 3
+    cells = [None] * (per_row * len(rows))  # row, value, [error,] row, ...: one % in all
+    cells[0::per_row] = rows
+    cells[1::per_row] = np.asarray(values, np.float64).tolist()
+    if not exact:
+        cells[2::per_row] = stderr.tolist()
+    line = f"%s,{fmt},0\n" if exact else f"%s,{fmt},{fmt}\n"
     with atomic_path(path) as tmp, open(tmp, "w") as f:
         f.write(",".join(columns) + "\n")
-        f.write((f"%s,{fmt},{fmt}\n" * len(rows)) % tuple(cells))
+        f.write((line * len(rows)) % tuple(cells))
 
 
 def write_csv(path, columns, data: np.ndarray) -> None:

@@ -140,6 +140,10 @@ def test_csv_round_trip(tmp_path):
     again = np.loadtxt(out, delimiter=",", skiprows=1)
     np.testing.assert_array_equal(again, data)
     assert out.read_text().splitlines()[1].startswith("0,0.8,0,0,1,0,123.456789,0")
+    write_points_csv(out, p, n, lux, np.zeros(2), rows=rows)  # exact: every error 0
+    exact = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(exact[:, 6], data[:, 6])
+    np.testing.assert_array_equal(exact[:, 7], 0.0)
 
 
 @pytest.mark.parametrize("text", [
