@@ -17,7 +17,8 @@ plugin once, when it starts (and again if it is restarted after dying):
 Local workers are forked from a *fork server* (:data:`FORKSERVER_PRELOAD`), which imports
 Dask and spectrace once for all of them (a spawned worker imports them itself: about a
 second of CPU each), and none of them runs the user's main script
-(:func:`main_script_hidden`).
+(:func:`main_script_hidden`). ``spectrace render --workers`` starts the server
+(:func:`start_forkserver`) before it loads the scenes, so that its imports run meanwhile.
 
 Kernel cache: Dr.Jit keeps compiled kernels in ``~/.drjit``; local workers inherit the
 client's environment (``HOME``, ``DRJIT_LIBLLVM_PATH``), so they share one cache folder and
@@ -150,6 +151,19 @@ def forkserver():
         multiprocessing.get_context("forkserver").set_forkserver_preload(
             list(FORKSERVER_PRELOAD))
         yield
+
+
+def start_forkserver() -> None:
+    """Start the fork server of :func:`forkserver` now (SIGINT ignored, as its workers
+    will have it): its imports of :data:`FORKSERVER_PRELOAD` then run beside what this
+    process does until it starts a LocalCluster (``spectrace render --workers`` loads the
+    scenes meanwhile)."""
+    import multiprocessing
+    from multiprocessing import forkserver as _forkserver
+
+    multiprocessing.get_context("forkserver").set_forkserver_preload(list(FORKSERVER_PRELOAD))
+    with _sigint_ignored(), main_script_hidden():
+        _forkserver.ensure_running()
 
 
 def start_local(workers: int | None = None):

@@ -44,6 +44,19 @@ def test_thread_share_never_oversubscribes():
     assert cluster.dr_thread_share(4, cores=2) == 1
 
 
+def test_fork_server_started_ahead_ignores_sigint():
+    """The fork server that ``render --workers`` starts before loading its scenes runs
+    with SIGINT ignored, as the workers it forks must (a Ctrl-C reaches the whole process
+    group: the client cancels the passes, the workers live on)."""
+    from multiprocessing import forkserver
+
+    cluster.start_forkserver()
+    pid = forkserver._forkserver._forkserver_pid
+    with open(f"/proc/{pid}/status") as f:
+        ignored = int(next(line for line in f if line.startswith("SigIgn:")).split()[1], 16)
+    assert ignored & (1 << (signal.SIGINT - 1))
+
+
 def test_workers_are_set_up_once_with_their_share_of_the_cores(client):
     """Each worker process set its variant once, runs cores // 2 Dr.Jit threads and uses
     the client's kernel cache folder."""

@@ -141,6 +141,10 @@ def run(args) -> int:
         raise UsageError(f"--workers must be a positive integer (got {args.workers})")
     _check_run_options(args)
     display_settings(args)  # a bad display option costs no render
+    if args.workers is not None and not args.scheduler:
+        from spectrace.cluster import start_forkserver
+
+        start_forkserver()  # it imports Dask while this process loads the scenes
     if args.denoise:
         if args.film == "spectral":
             raise UsageError("--denoise works with --film rgb")
