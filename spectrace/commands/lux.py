@@ -343,6 +343,8 @@ def run_design(args) -> int:
 
 
 def _measure_points(args, scene, point_data, spp, out):
+    import numpy as np
+
     from spectrace.lighting import luminance, points
 
     where, vectors, rows = point_data
@@ -362,6 +364,9 @@ def _measure_points(args, scene, point_data, spp, out):
     print(f"{len(where)} points: {args.kind} illuminance {values.min():.4g} to "
           f"{values.max():.4g} lx ({samples} sample(s) per point, MF "
           f"{args.maintenance_factor:g}) -> {out}")
+    if np.isnan(stderr).any():  # one random sample: no spread to estimate it from
+        print("note: the standard error is nan (unknown) with 1 random sample per point; "
+              "--spp 2 or more estimates it", file=sys.stderr)
 
 
 def _luminance(args, scene, spp, paths, study):

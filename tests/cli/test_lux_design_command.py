@@ -133,6 +133,24 @@ def test_points_round_trip_and_kinds(tmp_path, capsys):
     np.testing.assert_allclose(data[:, 6], 1000.0 * sin / (np.pi * r**2), rtol=RTOL_EXACT)
 
 
+def test_one_random_sample_says_its_error_is_unknown(tmp_path, capsys):
+    """With an area light, one sample per point has no spread to estimate an error from:
+    the stderr column is nan and a note says how to get it; with 4 samples it is a
+    number and nothing is said."""
+    scene = write_room(tmp_path, LAMP)
+    source = tmp_path / "sensors.csv"
+    source.write_text("1,0.8,-1,0,1,0\n4,0.8,-3,0,1,0\n")
+    out = tmp_path / "lux.csv"
+    base = ["lux", str(scene), "--points", str(source), "-o", str(out), "--variant",
+            "llvm_ad_rgb", "-q"]
+    assert main([*base, "--spp", "1"]) == 0
+    assert np.isnan(np.loadtxt(out, delimiter=",", skiprows=1)[:, 7]).all()
+    assert "standard error is nan" in capsys.readouterr().err
+    assert main([*base, "--spp", "4"]) == 0
+    assert np.isfinite(np.loadtxt(out, delimiter=",", skiprows=1)[:, 7]).all()
+    assert "standard error" not in capsys.readouterr().err
+
+
 def test_luminance_ugr_and_report(tmp_path, capsys):
     """--grid with --ugr and --report: the luminance EXR (Y in cd/m^2) and PNG, the UGR
     printed, and a Markdown report whose luminaire table, grid results, pass/fail and
