@@ -506,13 +506,10 @@ def read_spectral_layers_exr(path):
 
 def is_spectral_layers_file(path) -> bool:
     """Whether ``path`` holds spectral light-group layers (``<group>.S0.*`` channels)."""
-    import OpenEXR
+    from spectrace.images import exr_channel_names
 
-    try:
-        with OpenEXR.File(str(path), separate_channels=True) as f:
-            return any(".S0." in k for k in f.channels())
-    except Exception:  # unreadable: the readers name the problem
-        return False
+    names = exr_channel_names(path)  # None: unreadable, the readers name the problem
+    return names is not None and any(".S0." in k for k in names)
 
 
 def relight_spectral(layers: Mapping, wavelengths, scales: Mapping[str, float],

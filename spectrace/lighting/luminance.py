@@ -200,15 +200,10 @@ def luminance_image(scene, *, spp: int = 16, seed: int = 0, max_depth: int = 1,
 
 def write_luminance_exr(path, image: LuminanceImage, header: dict | None = None) -> None:
     """One float32 channel ``Y`` in cd/m^2 with ``units`` and ``spp`` attributes; atomic."""
-    import OpenEXR
+    from spectrace.images import write_exr_channels
 
-    from spectrace.images import atomic_path
-
-    attributes = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
-                  "units": "cd/m^2", "spp": int(image.spp)}
-    attributes.update(header or {})
-    with atomic_path(path) as tmp:
-        OpenEXR.File(attributes, {"Y": np.ascontiguousarray(image.Y, dtype=np.float32)}).write(tmp)
+    write_exr_channels(path, {"Y": image.Y}, {"units": "cd/m^2", "spp": int(image.spp),
+                                             **(header or {})})
 
 
 def as_map(image: LuminanceImage):
